@@ -1,0 +1,21 @@
+# SPDX-License-Identifier: MIT
+include(CMakePackageConfigHelpers)
+
+install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/cmmcomp" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(FILES "${PROJECT_BINARY_DIR}/include/cmmcomp/version.hpp"
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cmmcomp)
+install(TARGETS cmmcomp_core cmmcomp_lib EXPORT cmmcompTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(EXPORT cmmcompTargets NAMESPACE cmmcomp:: FILE cmmcompTargets.cmake
+        DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cmmcomp)
+
+configure_package_config_file("${PROJECT_SOURCE_DIR}/cmake/cmmcompConfig.cmake.in"
+  "${PROJECT_BINARY_DIR}/cmmcompConfig.cmake"
+  INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cmmcomp)
+write_basic_package_version_file("${PROJECT_BINARY_DIR}/cmmcompConfigVersion.cmake"
+  COMPATIBILITY SameMajorVersion)
+install(FILES "${PROJECT_BINARY_DIR}/cmmcompConfig.cmake"
+              "${PROJECT_BINARY_DIR}/cmmcompConfigVersion.cmake"
+        DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cmmcomp)

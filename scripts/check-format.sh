@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Fails when a tracked C/C++ file is not clang-formatted. Pass --fix to format them in place.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+mapfile -t files < <(git ls-files '*.hpp' '*.cpp' '*.h' '*.c' 2>/dev/null || true)
+if [ ${#files[@]} -eq 0 ]; then
+  mapfile -t files < <(find include src tools tests bench plugins examples -type f \
+    \( -name '*.hpp' -o -name '*.cpp' -o -name '*.h' -o -name '*.c' \) 2>/dev/null)
+fi
+if [ "${1:-}" = "--fix" ]; then
+  clang-format -i "${files[@]}"
+  exit 0
+fi
+bad=0
+for f in "${files[@]}"; do
+  if ! clang-format --dry-run --Werror "$f" >/dev/null 2>&1; then
+    echo "not clang-formatted: $f (run: bash scripts/check-format.sh --fix)"
+    bad=1
+  fi
+done
+[ $bad -eq 0 ] && echo "format check: ${#files[@]} files clean"
+exit $bad

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# README command 1: install what is missing, build (release preset), run the main job on the
+# embedded default machine model. Usage: bash scripts/main-job.sh [output-dir]
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$here"
+out="${1:-$here/build/main-job}"
+mkdir -p "$out"
+
+bash scripts/install-deps.sh
+cmake --preset release >/dev/null
+cmake --build --preset release --target cmmcomp-sim
+sim="$here/build/release/tools/cmmcomp-sim/cmmcomp-sim"
+
+echo
+echo "== 1. The paper's baseline probing move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10) =="
+"$sim" profile --csv "$out/baseline_profile.csv"
+echo
+echo "main job done; outputs in $out"

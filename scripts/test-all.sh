@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# README command 2 (and all of CI): install what is missing, then build and run every test:
+# the release build with warnings as errors (all ctest labels), the ASan+UBSan build of the
+# tests, and the clang-format check.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$here"
+jobs="$(nproc)"
+start=$(date +%s)
+
+bash scripts/install-deps.sh
+
+echo "== release build, all tests =="
+cmake --preset release
+cmake --build --preset release -j "$jobs"
+ctest --preset release -j "$jobs"
+
+echo "== ASan + UBSan build, all tests =="
+cmake --preset asan
+cmake --build --preset asan -j "$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --preset asan -j "$jobs"
+
+echo "== format check =="
+bash scripts/check-format.sh
+
+echo "test-all: everything passed in $(( $(date +%s) - start )) s"
