@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+/// @file The dataset CSV reader and writer.
+#include <cmmcomp/io/dataset_csv.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <cmmcomp/error.hpp>
+#include <fmt/format.h>
+
+namespace cmmcomp::io {
+namespace {
+
+double DatasetRow::*const kFields[] = {&DatasetRow::pv_mm_s,
+                                       &DatasetRow::pd_mm,
+                                       &DatasetRow::av_mm_s,
+                                       &DatasetRow::ad_mm,
+                                       &DatasetRow::pa_mm_s2,
+                                       &DatasetRow::aa_mm_s2,
+                                       &DatasetRow::y_mm,
+                                       &DatasetRow::mpe_um,
+                                       &DatasetRow::rpe_um,
+                                       &DatasetRow::mae_um,
+                                       &DatasetRow::rae_um};
+static_assert(std::size(kFields) == kDatasetColumns.size());
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) cells.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+}  // namespace
+
+std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::string& source) {
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  std::vector<int> column_of_field;  // cell index of each schema column
+  std::size_t header_cells = 0;
+  std::vector<DatasetRow> rows;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    const std::vector<std::string> cells = split(t);
+    if (column_of_field.empty()) {
+      header_cells = cells.size();
+      for (const char* name : kDatasetColumns) {
+        int found = -1;
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+          if (cells[i] == name) found = static_cast<int>(i);
+        }
+        if (found < 0) {
+          throw ConfigError(fmt::format("{}:{}: missing column '{}' (the header must name all of: "
+                                        "pv_mm_s,pd_mm,av_mm_s,ad_mm,pa_mm_s2,aa_mm_s2,y_mm,"
+                                        "mpe_um,rpe_um,mae_um,rae_um)",
+                                        source, line_no, name));
+        }
+        column_of_field.push_back(found);
+      }
+      continue;
+    }
+    if (cells.size() != header_cells) {
+      throw ConfigError(fmt::format("{}:{}: {} cells, the header has {}", source, line_no,
+                                    cells.size(), header_cells));
+    }
+    DatasetRow row;
+    for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
+      const std::string& cell = cells[static_cast<std::size_t>(column_of_field[f])];
+      char* end = nullptr;
+      errno = 0;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || end != cell.c_str() + cell.size() || errno == ERANGE) {
+        throw ConfigError(fmt::format("{}:{}: column '{}': '{}' is not a number", source, line_no,
+                                      kDatasetColumns[f], cell));
+      }
+      if (!std::isfinite(v)) {
+        throw ConfigError(fmt::format("{}:{}: column '{}': '{}' is not finite", source, line_no,
+                                      kDatasetColumns[f], cell));
+      }
+      row.*kFields[f] = v;
+    }
+    rows.push_back(row);
+  }
+  if (column_of_field.empty()) throw ConfigError(source + ": empty file (no header)");
+  if (rows.empty()) throw ConfigError(source + ": no data rows after the header");
+  return rows;
+}
+
+std::vector<DatasetRow> read_dataset_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_dataset_csv(text.str(), path);
+}
+
+std::string format_dataset_csv(const std::vector<DatasetRow>& rows) {
+  std::string s;
+  for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
+    s += (f ? "," : "");
+    s += kDatasetColumns[f];
+  }
+  s += '\n';
+  for (const DatasetRow& r : rows) {
+    for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
+      fmt::format_to(std::back_inserter(s), "{}{:.10g}", f ? "," : "", r.*kFields[f]);
+    }
+    s += '\n';
+  }
+  return s;
+}
+
+void write_dataset_csv(const std::string& path, const std::vector<DatasetRow>& rows) {
+  std::ofstream out(path, std::ios::binary);
+  out << format_dataset_csv(rows);
+  if (!out) throw Error(path + ": cannot write");
+}
+
+}  // namespace cmmcomp::io
