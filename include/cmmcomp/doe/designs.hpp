@@ -1,0 +1,396 @@
+// SPDX-License-Identifier: MIT
+/// @file Experimental designs: factors on orthogonal-array columns, full factorial, Latin
+/// hypercube, and replication of runs.
+///
+/// A Design is a plain table: one row of factor values per run. Level-based designs (from an
+/// orthogonal array or a full factorial) also carry the 0-based level index of every factor in
+/// every run, which is what the main-effects ANOVA (anova.hpp) works on. Values are in the
+/// caller's units; paper_table3_factors() gives the paper's levels in SI units.
+///
+/// Offline code: everything here allocates and throws std::invalid_argument with a readable
+/// reason on bad input. Nothing here is RT-safe.
+#pragma once
+
+#include <cmath>
+#include <cmmcomp/doe/orthogonal_array.hpp>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace cmmcomp::doe {
+
+/// One factor of an experiment and its levels (in the caller's units; SI in this project).
+struct Factor {
+  std::string name;            ///< label, unique within a design (e.g. "PV")
+  std::vector<double> levels;  ///< value of each level, level 0 first
+};
+
+/// The runs of an experiment. Row r of every per-run member describes run r.
+struct Design {
+  std::vector<std::string> factor_names;    ///< one per factor, unique
+  std::vector<std::vector<double>> values;  ///< [run][factor] factor value
+  bool has_levels = false;                  ///< level_indices and level_counts are filled
+  std::vector<std::vector<int>>
+      level_indices;              ///< [run][factor] 0-based level; empty if !has_levels
+  std::vector<int> level_counts;  ///< levels of each factor; empty if !has_levels
+  /// [run] index of the base run this row is a repeat of. For a design straight from a factory
+  /// run_index[r] == r; replicate() copies the base run's index to each repeat, so
+  /// average_replicates() (anova.hpp) can group repeats back.
+  std::vector<int> run_index;
+
+  /// Number of runs (rows).
+  int runs() const noexcept { return static_cast<int>(values.size()); }
+  /// Number of factors.
+  int factors() const noexcept { return static_cast<int>(factor_names.size()); }
+
+  /// Value of `factor` in `run`. @throws std::out_of_range for a bad index.
+  double value(int run, int factor) const {
+    check_cell(run, factor);
+    return values[static_cast<std::size_t>(run)][static_cast<std::size_t>(factor)];
+  }
+  /// 0-based level of `factor` in `run`.
+  /// @throws std::out_of_range for a bad index, std::logic_error when !has_levels.
+  int level(int run, int factor) const {
+    if (!has_levels) throw std::logic_error("Design::level: the design has no level indices");
+    check_cell(run, factor);
+    return level_indices[static_cast<std::size_t>(run)][static_cast<std::size_t>(factor)];
+  }
+  /// Index of the factor called `name`. @throws std::invalid_argument when there is none.
+  int factor_index(const std::string& name) const {
+    for (std::size_t f = 0; f < factor_names.size(); ++f) {
+      if (factor_names[f] == name) return static_cast<int>(f);
+    }
+    throw std::invalid_argument("Design: no factor named '" + name + "'");
+  }
+
+  /// Checks the table's consistency: at least one factor and one run, unique non-empty names,
+  /// rectangular finite values, run_index of the right size and non-negative, and, when
+  /// has_levels, level indices inside [0, level_counts[f]) (otherwise both level members
+  /// empty). On failure writes the reason to `*why` (when not null) and returns false.
+  bool is_valid(std::string* why) const {
+    const auto fail = [why](const std::string& reason) {
+      if (why != nullptr) *why = reason;
+      return false;
+    };
+    if (factor_names.empty()) return fail("no factors");
+    if (values.empty()) return fail("no runs");
+    std::set<std::string> names;
+    for (const auto& n : factor_names) {
+      if (n.empty()) return fail("a factor has an empty name");
+      if (!names.insert(n).second) return fail("factor name '" + n + "' used twice");
+    }
+    const std::size_t nf = factor_names.size();
+    for (std::size_t r = 0; r < values.size(); ++r) {
+      if (values[r].size() != nf) {
+        return fail("run " + std::to_string(r) + " has " + std::to_string(values[r].size()) +
+                    " values, expected " + std::to_string(nf));
+      }
+      for (std::size_t f = 0; f < nf; ++f) {
+        if (!std::isfinite(values[r][f])) {
+          return fail("run " + std::to_string(r) + ": value of '" + factor_names[f] +
+                      "' is not finite");
+        }
+      }
+    }
+    if (run_index.size() != values.size()) return fail("run_index size differs from runs");
+    for (const int i : run_index) {
+      if (i < 0) return fail("negative run_index");
+    }
+    if (!has_levels) {
+      if (!level_indices.empty() || !level_counts.empty()) {
+        return fail("level members filled but has_levels is false");
+      }
+      return true;
+    }
+    if (level_counts.size() != nf) return fail("level_counts size differs from factors");
+    for (std::size_t f = 0; f < nf; ++f) {
+      if (level_counts[f] < 1) return fail("factor '" + factor_names[f] + "' has no levels");
+    }
+    if (level_indices.size() != values.size()) return fail("level_indices size differs from runs");
+    for (std::size_t r = 0; r < level_indices.size(); ++r) {
+      if (level_indices[r].size() != nf) {
+        return fail("run " + std::to_string(r) + " has the wrong number of level indices");
+      }
+      for (std::size_t f = 0; f < nf; ++f) {
+        const int l = level_indices[r][f];
+        if (l < 0 || l >= level_counts[f]) {
+          return fail("run " + std::to_string(r) + ": level " + std::to_string(l) + " of '" +
+                      factor_names[f] + "' outside [0, " + std::to_string(level_counts[f]) + ")");
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  void check_cell(int run, int factor) const {
+    if (run < 0 || run >= runs() || factor < 0 || factor >= factors()) {
+      throw std::out_of_range("Design: cell (run " + std::to_string(run) + ", factor " +
+                              std::to_string(factor) + ") outside " + std::to_string(runs()) +
+                              " x " + std::to_string(factors()));
+    }
+  }
+};
+
+namespace detail {
+
+/// Throws std::invalid_argument("<where>: <reason>") unless design.is_valid().
+inline void require_valid(const Design& design, const char* where) {
+  std::string why;
+  if (!design.is_valid(&why)) throw std::invalid_argument(std::string(where) + ": " + why);
+}
+
+inline void require_factor_ok(const Factor& factor, const char* where) {
+  if (factor.name.empty()) throw std::invalid_argument(std::string(where) + ": empty factor name");
+  if (factor.levels.empty()) {
+    throw std::invalid_argument(std::string(where) + ": factor '" + factor.name +
+                                "' has no levels");
+  }
+  for (const double v : factor.levels) {
+    if (!std::isfinite(v)) {
+      throw std::invalid_argument(std::string(where) + ": factor '" + factor.name +
+                                  "' has a non-finite level");
+    }
+  }
+}
+
+inline void require_unique_names(const std::vector<std::string>& names, const char* where) {
+  std::set<std::string> seen;
+  for (const auto& n : names) {
+    if (!seen.insert(n).second) {
+      throw std::invalid_argument(std::string(where) + ": factor name '" + n + "' used twice");
+    }
+  }
+}
+
+/// Uniform double in [0, 1) from the top 53 bits of one raw draw. Exact and identical on every
+/// standard library, unlike std::uniform_real_distribution.
+inline double uniform01(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+/// Uniform integer in [0, bound) from raw draws, by rejection (no modulo bias). bound >= 1.
+inline std::uint64_t uniform_below(std::mt19937_64& rng, std::uint64_t bound) {
+  // Accept r < 2^64 - (2^64 mod bound), a multiple of bound.
+  const std::uint64_t rem = (std::numeric_limits<std::uint64_t>::max() % bound + 1) % bound;
+  const std::uint64_t max_ok = std::numeric_limits<std::uint64_t>::max() - rem;
+  std::uint64_t r = rng();
+  while (r > max_ok) r = rng();
+  return r % bound;
+}
+
+inline std::vector<int> identity_runs(std::size_t n) {
+  std::vector<int> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<int>(i);
+  return out;
+}
+
+}  // namespace detail
+
+/// Puts `factors[i]` on column `columns[i]` of `oa`: run r gets level oa.level(r, columns[i])
+/// of factor i. The result has levels (has_levels == true) and run_index[r] == r.
+/// Setup only.
+/// @throws std::invalid_argument when factors and columns differ in size or are empty, a
+///         column is out of range or used twice, a factor's level count differs from its
+///         column's (the message names the factor), or a factor name is empty, repeated or has
+///         non-finite levels.
+inline Design assign(const OrthogonalArray& oa,
+                     const std::vector<Factor>& factors,
+                     const std::vector<int>& columns) {
+  constexpr const char* kWhere = "doe::assign";
+  if (factors.empty()) throw std::invalid_argument("doe::assign: no factors");
+  if (factors.size() != columns.size()) {
+    throw std::invalid_argument("doe::assign: " + std::to_string(factors.size()) + " factors but " +
+                                std::to_string(columns.size()) + " columns");
+  }
+  std::set<int> used;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    const Factor& f = factors[i];
+    detail::require_factor_ok(f, kWhere);
+    const int c = columns[i];
+    if (c < 0 || c >= oa.columns()) {
+      throw std::invalid_argument("doe::assign: column " + std::to_string(c) + " for factor '" +
+                                  f.name + "' is outside [0, " + std::to_string(oa.columns()) +
+                                  ") of " + oa.name());
+    }
+    if (!used.insert(c).second) {
+      throw std::invalid_argument("doe::assign: column " + std::to_string(c) + " for factor '" +
+                                  f.name + "' is already used by another factor");
+    }
+    if (static_cast<int>(f.levels.size()) != oa.levels(c)) {
+      throw std::invalid_argument("doe::assign: factor '" + f.name + "' has " +
+                                  std::to_string(f.levels.size()) + " levels but column " +
+                                  std::to_string(c) + " of " + oa.name() + " has " +
+                                  std::to_string(oa.levels(c)));
+    }
+    names.push_back(f.name);
+  }
+  detail::require_unique_names(names, kWhere);
+
+  Design d;
+  d.factor_names = std::move(names);
+  d.has_levels = true;
+  for (const Factor& f : factors) d.level_counts.push_back(static_cast<int>(f.levels.size()));
+  for (int r = 0; r < oa.runs(); ++r) {
+    std::vector<double> row;
+    std::vector<int> lev;
+    for (std::size_t i = 0; i < factors.size(); ++i) {
+      const int l = oa.level(r, columns[i]);
+      lev.push_back(l);
+      row.push_back(factors[i].levels[static_cast<std::size_t>(l)]);
+    }
+    d.values.push_back(std::move(row));
+    d.level_indices.push_back(std::move(lev));
+  }
+  d.run_index = detail::identity_runs(d.values.size());
+  return d;
+}
+
+/// The paper's columns for PV, PD, AV, AD (in that order) in taguchi_l18(): c2..c5, i.e.
+/// 0-based columns {1, 2, 3, 4} (Wei et al. 2019, §3).
+inline std::vector<int> paper_l18_assignment() { return {1, 2, 3, 4}; }
+
+/// The paper's Table 3 factors in SI units, in the order PV [m/s], PD [m], AV [m/s], AD [m]:
+/// PV 40/70/100 mm/s, PD 40/60/80 mm (80 mm is the project's choice for the missing third
+/// level), AV 8/12/16 mm/s, AD 5/10/15 mm.
+inline std::vector<Factor> paper_table3_factors() {
+  return {Factor{"PV", {0.040, 0.070, 0.100}},
+          Factor{"PD", {0.040, 0.060, 0.080}},
+          Factor{"AV", {0.008, 0.012, 0.016}},
+          Factor{"AD", {0.005, 0.010, 0.015}}};
+}
+
+/// The paper's 18-run design: paper_table3_factors() on taguchi_l18() columns
+/// paper_l18_assignment(). Setup only.
+inline Design paper_l18_design() {
+  return assign(taguchi_l18(), paper_table3_factors(), paper_l18_assignment());
+}
+
+/// Largest run count full_factorial() accepts (a guard against a mistyped level list).
+inline constexpr long long kMaxFullFactorialRuns = 10'000'000;
+
+/// Every combination of the factors' levels, the last factor varying fastest (so the first
+/// run has every factor at level 0). Has levels; run_index[r] == r. Setup only.
+/// @throws std::invalid_argument when there are no factors, a factor has no levels, an empty
+///         or repeated name or non-finite levels, or the run count exceeds kMaxFullFactorialRuns.
+inline Design full_factorial(const std::vector<Factor>& factors) {
+  constexpr const char* kWhere = "doe::full_factorial";
+  if (factors.empty()) throw std::invalid_argument("doe::full_factorial: no factors");
+  long long total = 1;
+  std::vector<std::string> names;
+  for (const Factor& f : factors) {
+    detail::require_factor_ok(f, kWhere);
+    total *= static_cast<long long>(f.levels.size());
+    if (total > kMaxFullFactorialRuns) {
+      throw std::invalid_argument("doe::full_factorial: more than " +
+                                  std::to_string(kMaxFullFactorialRuns) + " runs");
+    }
+    names.push_back(f.name);
+  }
+  detail::require_unique_names(names, kWhere);
+
+  Design d;
+  d.factor_names = std::move(names);
+  d.has_levels = true;
+  for (const Factor& f : factors) d.level_counts.push_back(static_cast<int>(f.levels.size()));
+  std::vector<int> lev(factors.size(), 0);
+  for (long long r = 0; r < total; ++r) {
+    std::vector<double> row;
+    for (std::size_t i = 0; i < factors.size(); ++i) {
+      row.push_back(factors[i].levels[static_cast<std::size_t>(lev[i])]);
+    }
+    d.values.push_back(std::move(row));
+    d.level_indices.push_back(lev);
+    // Odometer increment, last factor fastest.
+    for (std::size_t i = factors.size(); i-- > 0;) {
+      if (++lev[i] < d.level_counts[i]) break;
+      lev[i] = 0;
+    }
+  }
+  d.run_index = detail::identity_runs(d.values.size());
+  return d;
+}
+
+/// Latin hypercube sample of `samples` runs over the box [lower[f], upper[f]] of each factor.
+/// Each factor's range is split into `samples` equal strata and every stratum holds exactly one
+/// run; the strata are permuted independently per factor and the point is placed uniformly
+/// inside its stratum. No level indices (has_levels == false); run_index[r] == r. Setup only.
+///
+/// Deterministic for a seed and identical across standard libraries (up to a last-bit
+/// difference where a compiler contracts the final expression into an FMA): the generator is
+/// std::mt19937_64(seed), and all draws are made here from its raw output, in this order: for
+/// each factor f in turn, first a Fisher-Yates shuffle of the strata 0..samples-1 (for
+/// i = samples-1 down to 1, swap i with a uniform index in [0, i], drawn by rejection), then one
+/// uniform u in [0, 1) (top 53 bits of a draw) per run r; run r gets
+/// lower + (upper - lower) * (stratum_r + u_r) / samples.
+/// @throws std::invalid_argument when names, lower and upper differ in size or are empty, a
+///         name is empty or repeated, a bound is not finite, lower > upper, or samples < 1.
+inline Design latin_hypercube(const std::vector<std::string>& names,
+                              const std::vector<double>& lower,
+                              const std::vector<double>& upper,
+                              int samples,
+                              std::uint64_t seed) {
+  if (names.empty()) throw std::invalid_argument("doe::latin_hypercube: no factors");
+  if (lower.size() != names.size() || upper.size() != names.size()) {
+    throw std::invalid_argument("doe::latin_hypercube: names, lower and upper differ in size");
+  }
+  if (samples < 1) throw std::invalid_argument("doe::latin_hypercube: samples must be >= 1");
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (names[f].empty()) throw std::invalid_argument("doe::latin_hypercube: empty factor name");
+    if (!std::isfinite(lower[f]) || !std::isfinite(upper[f]) || lower[f] > upper[f]) {
+      throw std::invalid_argument("doe::latin_hypercube: factor '" + names[f] +
+                                  "' needs finite bounds with lower <= upper");
+    }
+  }
+  detail::require_unique_names(names, "doe::latin_hypercube");
+
+  const auto n = static_cast<std::size_t>(samples);
+  Design d;
+  d.factor_names = names;
+  d.values.assign(n, std::vector<double>(names.size(), 0.0));
+  std::mt19937_64 rng(seed);
+  std::vector<int> strata(n);
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    for (std::size_t i = 0; i < n; ++i) strata[i] = static_cast<int>(i);
+    for (std::size_t i = n - 1; i > 0; --i) {
+      const auto j = static_cast<std::size_t>(detail::uniform_below(rng, i + 1));
+      std::swap(strata[i], strata[j]);
+    }
+    const double width = upper[f] - lower[f];
+    for (std::size_t r = 0; r < n; ++r) {
+      const double u = detail::uniform01(rng);
+      d.values[r][f] = lower[f] + width * ((strata[r] + u) / static_cast<double>(samples));
+    }
+  }
+  d.run_index = detail::identity_runs(n);
+  return d;
+}
+
+/// Each run of `design` repeated `repeats` times consecutively (run 0 x repeats, then run 1 ...).
+/// Every repeat keeps its base run's run_index, so average_replicates() can group them.
+/// Setup only. @throws std::invalid_argument for repeats < 1 or an invalid design.
+inline Design replicate(const Design& design, int repeats) {
+  detail::require_valid(design, "doe::replicate");
+  if (repeats < 1) throw std::invalid_argument("doe::replicate: repeats must be >= 1");
+  Design d;
+  d.factor_names = design.factor_names;
+  d.has_levels = design.has_levels;
+  d.level_counts = design.level_counts;
+  for (std::size_t r = 0; r < design.values.size(); ++r) {
+    for (int k = 0; k < repeats; ++k) {
+      d.values.push_back(design.values[r]);
+      if (design.has_levels) d.level_indices.push_back(design.level_indices[r]);
+      d.run_index.push_back(design.run_index[r]);
+    }
+  }
+  return d;
+}
+
+}  // namespace cmmcomp::doe

@@ -1,0 +1,253 @@
+// SPDX-License-Identifier: MIT
+/// @file Orthogonal arrays: Taguchi's standard L9 (3^4), L18 (2x3^7) and L27 (3^13) tables.
+///
+/// An orthogonal array is a table of runs x columns whose cells are level indices. In this
+/// module level indices are **0-based** everywhere (the published tables, and the CSV files in
+/// `paper-tables/`, are 1-based: level 1 there is level 0 here). Columns are 0-based too, so
+/// the paper's column c2 is column 1.
+///
+/// Offline code (the design of experiments happens before training): it allocates, and it
+/// reports invalid arguments with exceptions. Nothing here is RT-safe.
+#pragma once
+
+#include <cstddef>
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace cmmcomp::doe {
+
+/// A runs x columns table of 0-based level indices, with the number of levels of each column.
+/// Immutable once built; copyable.
+class OrthogonalArray {
+ public:
+  /// Builds an array from its rows of 0-based levels. Setup only.
+  /// @param name               label such as "L18", used in messages
+  /// @param levels_per_column  number of levels of each column (each >= 2)
+  /// @param rows               one row per run; every row has levels_per_column.size() cells,
+  ///                           cell c in [0, levels_per_column[c])
+  /// @throws std::invalid_argument when there are no runs or no columns, a column has fewer
+  ///         than 2 levels, a row has the wrong length, or a cell is out of range.
+  /// The constructor does not require orthogonality: use is_orthogonal() to check it.
+  OrthogonalArray(std::string name,
+                  std::vector<int> levels_per_column,
+                  const std::vector<std::vector<int>>& rows)
+      : name_(std::move(name)), levels_(std::move(levels_per_column)) {
+    if (levels_.empty()) throw std::invalid_argument("OrthogonalArray " + name_ + ": no columns");
+    if (rows.empty()) throw std::invalid_argument("OrthogonalArray " + name_ + ": no runs");
+    for (std::size_t c = 0; c < levels_.size(); ++c) {
+      if (levels_[c] < 2) {
+        throw std::invalid_argument("OrthogonalArray " + name_ + ": column " + std::to_string(c) +
+                                    " has fewer than 2 levels");
+      }
+    }
+    runs_ = static_cast<int>(rows.size());
+    cells_.reserve(rows.size() * levels_.size());
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      if (rows[r].size() != levels_.size()) {
+        throw std::invalid_argument("OrthogonalArray " + name_ + ": run " + std::to_string(r) +
+                                    " has " + std::to_string(rows[r].size()) + " cells, expected " +
+                                    std::to_string(levels_.size()));
+      }
+      for (std::size_t c = 0; c < levels_.size(); ++c) {
+        const int v = rows[r][c];
+        if (v < 0 || v >= levels_[c]) {
+          throw std::invalid_argument("OrthogonalArray " + name_ + ": cell (run " +
+                                      std::to_string(r) + ", column " + std::to_string(c) +
+                                      ") = " + std::to_string(v) + " is outside [0, " +
+                                      std::to_string(levels_[c]) + ")");
+        }
+        cells_.push_back(v);
+      }
+    }
+  }
+
+  /// The label given at construction ("L9", "L18", "L27" for the factories).
+  const std::string& name() const noexcept { return name_; }
+  /// Number of runs (rows).
+  int runs() const noexcept { return runs_; }
+  /// Number of columns.
+  int columns() const noexcept { return static_cast<int>(levels_.size()); }
+  /// Number of levels of `column`. @throws std::out_of_range for a bad column.
+  int levels(int column) const {
+    check_column(column);
+    return levels_[static_cast<std::size_t>(column)];
+  }
+  /// Number of levels of every column.
+  const std::vector<int>& levels_per_column() const noexcept { return levels_; }
+  /// 0-based level of cell (`run`, `column`), both 0-based.
+  /// @throws std::out_of_range for a bad run or column.
+  int level(int run, int column) const {
+    check_column(column);
+    if (run < 0 || run >= runs_) {
+      throw std::out_of_range("OrthogonalArray " + name_ + ": run " + std::to_string(run) +
+                              " outside [0, " + std::to_string(runs_) + ")");
+    }
+    return cells_[static_cast<std::size_t>(run) * levels_.size() +
+                  static_cast<std::size_t>(column)];
+  }
+  /// The levels of one column, one per run. @throws std::out_of_range for a bad column.
+  std::vector<int> column(int index) const {
+    check_column(index);
+    std::vector<int> out;
+    out.reserve(static_cast<std::size_t>(runs_));
+    for (int r = 0; r < runs_; ++r) out.push_back(level(r, index));
+    return out;
+  }
+  /// A copy of the table as rows (the constructor's input form), e.g. to derive a modified
+  /// array.
+  std::vector<std::vector<int>> rows() const {
+    std::vector<std::vector<int>> out(static_cast<std::size_t>(runs_));
+    for (int r = 0; r < runs_; ++r) {
+      const auto begin = cells_.begin() +
+                         static_cast<std::ptrdiff_t>(static_cast<std::size_t>(r) * levels_.size());
+      out[static_cast<std::size_t>(r)].assign(begin,
+                                              begin + static_cast<std::ptrdiff_t>(levels_.size()));
+    }
+    return out;
+  }
+
+ private:
+  void check_column(int column) const {
+    if (column < 0 || column >= columns()) {
+      throw std::out_of_range("OrthogonalArray " + name_ + ": column " + std::to_string(column) +
+                              " outside [0, " + std::to_string(columns()) + ")");
+    }
+  }
+
+  std::string name_;
+  std::vector<int> levels_;  // levels per column
+  std::vector<int> cells_;   // row-major, runs_ x levels_.size()
+  int runs_ = 0;
+};
+
+namespace detail {
+
+/// Builds an array from a table written 1-based, as published.
+inline OrthogonalArray from_one_based(std::string name,
+                                      std::vector<int> levels_per_column,
+                                      std::initializer_list<std::initializer_list<int>> table) {
+  std::vector<std::vector<int>> rows;
+  rows.reserve(table.size());
+  for (const auto& row : table) {
+    std::vector<int> r;
+    r.reserve(row.size());
+    for (const int v : row) r.push_back(v - 1);
+    rows.push_back(std::move(r));
+  }
+  return OrthogonalArray(std::move(name), std::move(levels_per_column), rows);
+}
+
+}  // namespace detail
+
+/// Taguchi's standard L9 (3^4): 9 runs, 4 three-level columns. Setup only.
+inline OrthogonalArray taguchi_l9() {
+  return detail::from_one_based("L9",
+                                {3, 3, 3, 3},
+                                {
+                                    {1, 1, 1, 1},
+                                    {1, 2, 2, 2},
+                                    {1, 3, 3, 3},
+                                    {2, 1, 2, 3},
+                                    {2, 2, 3, 1},
+                                    {2, 3, 1, 2},
+                                    {3, 1, 3, 2},
+                                    {3, 2, 1, 3},
+                                    {3, 3, 2, 1},
+                                });
+}
+
+/// Taguchi's standard L18 (2^1 x 3^7): 18 runs; column 0 has 2 levels, columns 1..7 have 3.
+/// Cell for cell the table in `paper-tables/taguchi_l18.csv` (columns c1..c8 there are 0..7
+/// here). The paper (Wei et al. 2019, §3) puts PV, PD, AV, AD on columns c2..c5, see
+/// paper_l18_assignment() in designs.hpp. Setup only.
+inline OrthogonalArray taguchi_l18() {
+  return detail::from_one_based("L18",
+                                {2, 3, 3, 3, 3, 3, 3, 3},
+                                {
+                                    {1, 1, 1, 1, 1, 1, 1, 1},
+                                    {1, 1, 2, 2, 2, 2, 2, 2},
+                                    {1, 1, 3, 3, 3, 3, 3, 3},
+                                    {1, 2, 1, 1, 2, 2, 3, 3},
+                                    {1, 2, 2, 2, 3, 3, 1, 1},
+                                    {1, 2, 3, 3, 1, 1, 2, 2},
+                                    {1, 3, 1, 2, 1, 3, 2, 3},
+                                    {1, 3, 2, 3, 2, 1, 3, 1},
+                                    {1, 3, 3, 1, 3, 2, 1, 2},
+                                    {2, 1, 1, 3, 3, 2, 2, 1},
+                                    {2, 1, 2, 1, 1, 3, 3, 2},
+                                    {2, 1, 3, 2, 2, 1, 1, 3},
+                                    {2, 2, 1, 2, 3, 1, 3, 2},
+                                    {2, 2, 2, 3, 1, 2, 1, 3},
+                                    {2, 2, 3, 1, 2, 3, 2, 1},
+                                    {2, 3, 1, 3, 2, 3, 1, 2},
+                                    {2, 3, 2, 1, 3, 1, 2, 3},
+                                    {2, 3, 3, 2, 1, 2, 3, 1},
+                                });
+}
+
+/// Taguchi's standard L27 (3^13): 27 runs, 13 three-level columns. With (a, b, c) the base-3
+/// digits of the 0-based run index (a most significant), the columns are, mod 3:
+/// a, b, a+b, 2a+b, c, a+c, 2a+c, b+c, a+b+c, 2a+b+c, 2b+c, a+2b+c, 2a+2b+c. Setup only.
+inline OrthogonalArray taguchi_l27() {
+  return detail::from_one_based(
+      "L27",
+      std::vector<int>(13, 3),
+      {
+          {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1}, {1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2},
+          {1, 1, 1, 1, 3, 3, 3, 3, 3, 3, 3, 3, 3}, {1, 2, 2, 2, 1, 1, 1, 2, 2, 2, 3, 3, 3},
+          {1, 2, 2, 2, 2, 2, 2, 3, 3, 3, 1, 1, 1}, {1, 2, 2, 2, 3, 3, 3, 1, 1, 1, 2, 2, 2},
+          {1, 3, 3, 3, 1, 1, 1, 3, 3, 3, 2, 2, 2}, {1, 3, 3, 3, 2, 2, 2, 1, 1, 1, 3, 3, 3},
+          {1, 3, 3, 3, 3, 3, 3, 2, 2, 2, 1, 1, 1}, {2, 1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3},
+          {2, 1, 2, 3, 2, 3, 1, 2, 3, 1, 2, 3, 1}, {2, 1, 2, 3, 3, 1, 2, 3, 1, 2, 3, 1, 2},
+          {2, 2, 3, 1, 1, 2, 3, 2, 3, 1, 3, 1, 2}, {2, 2, 3, 1, 2, 3, 1, 3, 1, 2, 1, 2, 3},
+          {2, 2, 3, 1, 3, 1, 2, 1, 2, 3, 2, 3, 1}, {2, 3, 1, 2, 1, 2, 3, 3, 1, 2, 2, 3, 1},
+          {2, 3, 1, 2, 2, 3, 1, 1, 2, 3, 3, 1, 2}, {2, 3, 1, 2, 3, 1, 2, 2, 3, 1, 1, 2, 3},
+          {3, 1, 3, 2, 1, 3, 2, 1, 3, 2, 1, 3, 2}, {3, 1, 3, 2, 2, 1, 3, 2, 1, 3, 2, 1, 3},
+          {3, 1, 3, 2, 3, 2, 1, 3, 2, 1, 3, 2, 1}, {3, 2, 1, 3, 1, 3, 2, 2, 1, 3, 3, 2, 1},
+          {3, 2, 1, 3, 2, 1, 3, 3, 2, 1, 1, 3, 2}, {3, 2, 1, 3, 3, 2, 1, 1, 3, 2, 2, 1, 3},
+          {3, 3, 2, 1, 1, 3, 2, 3, 2, 1, 2, 1, 3}, {3, 3, 2, 1, 2, 1, 3, 1, 3, 2, 3, 2, 1},
+          {3, 3, 2, 1, 3, 2, 1, 2, 1, 3, 1, 3, 2},
+      });
+}
+
+/// True when every level of `column` appears equally often (runs divisible by its level
+/// count). Setup only. @throws std::out_of_range for a bad column.
+inline bool column_is_balanced(const OrthogonalArray& oa, int column) {
+  const int levels = oa.levels(column);
+  if (oa.runs() % levels != 0) return false;
+  std::vector<int> count(static_cast<std::size_t>(levels), 0);
+  for (int r = 0; r < oa.runs(); ++r) ++count[static_cast<std::size_t>(oa.level(r, column))];
+  for (const int n : count) {
+    if (n != oa.runs() / levels) return false;
+  }
+  return true;
+}
+
+/// True when the array has strength 2: every column is balanced and, for every pair of
+/// columns, each of the levels_i x levels_j level combinations appears equally often.
+/// Setup only.
+inline bool is_orthogonal(const OrthogonalArray& oa) {
+  for (int i = 0; i < oa.columns(); ++i) {
+    if (!column_is_balanced(oa, i)) return false;
+  }
+  for (int i = 0; i < oa.columns(); ++i) {
+    for (int j = i + 1; j < oa.columns(); ++j) {
+      const int li = oa.levels(i);
+      const int lj = oa.levels(j);
+      if (oa.runs() % (li * lj) != 0) return false;
+      std::vector<int> count(static_cast<std::size_t>(li * lj), 0);
+      for (int r = 0; r < oa.runs(); ++r) {
+        ++count[static_cast<std::size_t>(oa.level(r, i) * lj + oa.level(r, j))];
+      }
+      for (const int n : count) {
+        if (n != oa.runs() / (li * lj)) return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace cmmcomp::doe
