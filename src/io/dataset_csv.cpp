@@ -1,15 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @file The dataset CSV reader and writer.
-#include <cmmcomp/io/dataset_csv.hpp>
+#include <fmt/format.h>
 
 #include <cerrno>
 #include <cmath>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
-
-#include <cmmcomp/error.hpp>
-#include <fmt/format.h>
 
 namespace cmmcomp::io {
 namespace {
@@ -65,18 +64,21 @@ std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::st
           if (cells[i] == name) found = static_cast<int>(i);
         }
         if (found < 0) {
-          throw ConfigError(fmt::format("{}:{}: missing column '{}' (the header must name all of: "
-                                        "pv_mm_s,pd_mm,av_mm_s,ad_mm,pa_mm_s2,aa_mm_s2,y_mm,"
-                                        "mpe_um,rpe_um,mae_um,rae_um)",
-                                        source, line_no, name));
+          throw ConfigError(
+              fmt::format("{}:{}: missing column '{}' (the header must name all of: "
+                          "pv_mm_s,pd_mm,av_mm_s,ad_mm,pa_mm_s2,aa_mm_s2,y_mm,"
+                          "mpe_um,rpe_um,mae_um,rae_um)",
+                          source,
+                          line_no,
+                          name));
         }
         column_of_field.push_back(found);
       }
       continue;
     }
     if (cells.size() != header_cells) {
-      throw ConfigError(fmt::format("{}:{}: {} cells, the header has {}", source, line_no,
-                                    cells.size(), header_cells));
+      throw ConfigError(fmt::format(
+          "{}:{}: {} cells, the header has {}", source, line_no, cells.size(), header_cells));
     }
     DatasetRow row;
     for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
@@ -85,12 +87,12 @@ std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::st
       errno = 0;
       const double v = std::strtod(cell.c_str(), &end);
       if (cell.empty() || end != cell.c_str() + cell.size() || errno == ERANGE) {
-        throw ConfigError(fmt::format("{}:{}: column '{}': '{}' is not a number", source, line_no,
-                                      kDatasetColumns[f], cell));
+        throw ConfigError(fmt::format(
+            "{}:{}: column '{}': '{}' is not a number", source, line_no, kDatasetColumns[f], cell));
       }
       if (!std::isfinite(v)) {
-        throw ConfigError(fmt::format("{}:{}: column '{}': '{}' is not finite", source, line_no,
-                                      kDatasetColumns[f], cell));
+        throw ConfigError(fmt::format(
+            "{}:{}: column '{}': '{}' is not finite", source, line_no, kDatasetColumns[f], cell));
       }
       row.*kFields[f] = v;
     }

@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file The dataset CSV schema: round trip and every error a user can make.
-#include <string>
-
 #include <gtest/gtest.h>
 
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <string>
 
 namespace cmmcomp::io {
 namespace {
