@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: MIT
 /// @file The only translation unit that includes SUNDIALS.
-#include <cmmcomp/dynamics/integrator.hpp>
-
-#include <cmath>
-#include <cstring>
-#include <stdexcept>
-#include <string>
-
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+
+#include <cmath>
+#include <cmmcomp/dynamics/integrator.hpp>
+#include <cstring>
+#include <stdexcept>
+#include <string>
 
 namespace cmmcomp::dynamics {
 
@@ -58,6 +57,9 @@ struct Integrator::Impl {
     const Impl* impl = static_cast<const Impl*>(self);
     return impl->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), impl->user);
   }
+  // CVODE would print its own messages to stderr; the caller reports failures with context.
+  static void silent(int, const char*, const char*, char*, void*) {}
+
   static int root_trampoline(realtype t, N_Vector y, realtype* g, void* self) {
     const Impl* impl = static_cast<const Impl*>(self);
     return impl->roots(t, N_VGetArrayPointer(y), g, impl->user);
@@ -95,6 +97,8 @@ Integrator::Integrator(const IntegratorOptions& options,
   check(m.cvode != nullptr, "CVodeCreate");
   check(CVodeInit(m.cvode, &Impl::rhs_trampoline, 0.0, m.y) == CV_SUCCESS, "CVodeInit");
   check(CVodeSetUserData(m.cvode, &m) == CV_SUCCESS, "CVodeSetUserData");
+  check(CVodeSetErrHandlerFn(m.cvode, &Impl::silent, nullptr) == CV_SUCCESS,
+        "CVodeSetErrHandlerFn");
   check(CVodeSStolerances(m.cvode, options.relative_tolerance, options.absolute_tolerance) ==
             CV_SUCCESS,
         "CVodeSStolerances");

@@ -1,12 +1,25 @@
 // SPDX-License-Identifier: MIT
 /// @file cmmcomp-sim: plan probing moves (and, with the digital twin, simulate them).
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/doe/orthogonal_array.hpp>
+#include <cmmcomp/dynamics/bridge_model.hpp>
+#include <cmmcomp/dynamics/dataset.hpp>
+#include <cmmcomp/dynamics/noise.hpp>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/io/dataset_anova.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
 #include <exception>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -54,6 +67,243 @@ int run_profile(const MoveFlags& flags, const std::string& csv_path, int samples
   return 0;
 }
 
+cmmcomp::dynamics::Machine machine_from(const std::string& path) {
+  return path.empty() ? cmmcomp::dynamics::default_machine()
+                      : cmmcomp::dynamics::load_machine(path);
+}
+
+struct MoveCommand {
+  MoveFlags move;
+  double y_mm = 250;
+  std::string machine_path, trace_path;
+  bool noise = false, json = false;
+  std::uint64_t seed = 1;
+};
+
+int run_move(const MoveCommand& cmd) {
+  using namespace cmmcomp::dynamics;
+  SimulationOptions options;
+  options.record_trace = !cmd.trace_path.empty();
+  BridgeSimulator sim(machine_from(cmd.machine_path), options);
+  const SimulationResult r = sim.simulate(cmd.move.to_move(), cmd.y_mm * kMm);
+  MeasurementNoise noise;
+  noise.enabled = cmd.noise;
+  noise.seed = cmd.seed;
+  const cmmcomp::errors::DynamicErrors e = add_noise(r.errors_um, noise, 0);
+  if (cmd.json) {
+    std::printf("{\"mpe_um\": %.6f, \"rpe_um\": %.6f, \"mae_um\": %.6f, \"rae_um\": %.6f}\n",
+                e.mpe,
+                e.rpe,
+                e.mae,
+                e.rae);
+  } else {
+    std::printf("machine: %s\n", sim.machine().name.c_str());
+    std::printf(
+        "MPE %9.3f um\nRPE %9.3f um\nMAE %9.3f um\nRAE %9.3f um\n", e.mpe, e.rpe, e.mae, e.rae);
+    std::printf(
+        "(CVODE: %ld steps, %ld right-hand-side evaluations)\n", r.stats.steps, r.stats.rhs_evals);
+  }
+  if (!cmd.trace_path.empty()) {
+    std::string csv =
+        "t_s,commanded_mm,scale_mm,tip_mm,error_um,velocity_mm_s,acceleration_mm_s2\n";
+    for (const TraceSample& s : r.trace) {
+      csv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+                         s.t_s,
+                         s.commanded_mm,
+                         s.scale_mm,
+                         s.tip_mm,
+                         s.error_um,
+                         s.velocity_mm_s,
+                         s.acceleration_mm_s2);
+    }
+    std::ofstream out(cmd.trace_path);
+    out << csv;
+    if (!out) throw cmmcomp::Error(cmd.trace_path + ": cannot write");
+  }
+  return 0;
+}
+
+struct DatasetCommand {
+  std::string design = "l18";
+  int repeats = 1;
+  int samples = 270;
+  std::string levels = "pv=40,70,100;pd=40,60,80;av=8,12,16;ad=5,10,15";
+  double pa = 200, aa = 60, y_mm = 250;
+  std::string machine_path, output;
+  bool noise = false;
+  std::uint64_t seed = 1;
+  int threads = 0;
+};
+
+/// Parses "pv=40,70,100;pd=40,60,80;av=8,12,16;ad=5,10,15" into the four factors (SI units).
+std::vector<cmmcomp::doe::Factor> parse_levels(const std::string& text) {
+  std::map<std::string, std::vector<double>> found;
+  std::istringstream groups(text);
+  std::string group;
+  while (std::getline(groups, group, ';')) {
+    const auto eq = group.find('=');
+    if (eq == std::string::npos) {
+      throw cmmcomp::ConfigError("--levels: '" + group + "' is not NAME=v1,v2,...");
+    }
+    const std::string name = group.substr(0, eq);
+    if (name != "pv" && name != "pd" && name != "av" && name != "ad") {
+      throw cmmcomp::ConfigError("--levels: unknown factor '" + name + "' (pv, pd, av, ad)");
+    }
+    std::istringstream values(group.substr(eq + 1));
+    std::string v;
+    while (std::getline(values, v, ',')) {
+      try {
+        std::size_t used = 0;
+        const double x = std::stod(v, &used);
+        if (used != v.size() || !(x > 0)) throw std::invalid_argument(v);
+        found[name].push_back(x * kMm);
+      } catch (const std::exception&) {
+        throw cmmcomp::ConfigError("--levels: factor '" + name + "': '" + v +
+                                   "' is not a positive number");
+      }
+    }
+  }
+  std::vector<cmmcomp::doe::Factor> factors;
+  for (const char* name : {"pv", "pd", "av", "ad"}) {
+    if (found[name].empty()) throw cmmcomp::ConfigError(std::string("--levels: no ") + name);
+    std::string upper = name;
+    for (char& ch : upper) ch = static_cast<char>(ch - 'a' + 'A');
+    factors.push_back({upper, found[name]});
+  }
+  return factors;
+}
+
+cmmcomp::doe::Design design_from(const DatasetCommand& cmd) {
+  using namespace cmmcomp::doe;
+  const std::vector<Factor> factors = parse_levels(cmd.levels);
+  auto require_levels = [&factors](std::size_t n, const char* design) {
+    for (const Factor& f : factors) {
+      if (f.levels.size() != n) {
+        throw cmmcomp::ConfigError(fmt::format("--design {} needs {} levels per factor; {} has {}",
+                                               design,
+                                               n,
+                                               f.name,
+                                               f.levels.size()));
+      }
+    }
+  };
+  if (cmd.design == "l18") {
+    require_levels(3, "l18");
+    return assign(taguchi_l18(), factors, paper_l18_assignment());
+  }
+  if (cmd.design == "l9") {
+    require_levels(3, "l9");
+    return assign(taguchi_l9(), factors, {0, 1, 2, 3});
+  }
+  if (cmd.design == "l27") {
+    require_levels(3, "l27");
+    return assign(taguchi_l27(), factors, {0, 1, 4, 12});
+  }
+  if (cmd.design == "full") return full_factorial(factors);
+  if (cmd.design == "lhs") {
+    std::vector<std::string> names;
+    std::vector<double> lo, hi;
+    for (const Factor& f : factors) {
+      names.push_back(f.name);
+      lo.push_back(*std::min_element(f.levels.begin(), f.levels.end()));
+      hi.push_back(*std::max_element(f.levels.begin(), f.levels.end()));
+    }
+    return latin_hypercube(names, lo, hi, cmd.samples, cmd.seed);
+  }
+  throw cmmcomp::ConfigError("--design must be one of l18, l9, l27, full, lhs");
+}
+
+int run_dataset(const DatasetCommand& cmd) {
+  using namespace cmmcomp::dynamics;
+  const cmmcomp::doe::Design design =
+      cmmcomp::doe::replicate(design_from(cmd), std::max(1, cmd.repeats));
+  DatasetOptions options;
+  options.noise.enabled = cmd.noise;
+  options.noise.seed = cmd.seed;
+  options.threads = cmd.threads;
+  const bool tty = isatty(fileno(stderr)) != 0;
+  if (tty) {
+    options.progress = [](std::size_t done, std::size_t total) {
+      std::fprintf(stderr, "\rsimulating %zu/%zu moves", done, total);
+      if (done == total) std::fputc('\n', stderr);
+    };
+  }
+  const std::vector<cmmcomp::io::DatasetRow> rows =
+      simulate_dataset(machine_from(cmd.machine_path),
+                       rows_from_design(design, FixedSettings{cmd.pa, cmd.aa, cmd.y_mm}),
+                       options);
+  cmmcomp::io::write_dataset_csv(cmd.output, rows);
+  std::printf("wrote %zu rows (%s design, %d repeat(s), noise %s) to %s\n",
+              rows.size(),
+              cmd.design.c_str(),
+              std::max(1, cmd.repeats),
+              cmd.noise ? "on" : "off",
+              cmd.output.c_str());
+  return 0;
+}
+
+nlohmann::json table_json(const cmmcomp::doe::AnovaTable& t) {
+  nlohmann::json j;
+  auto row = [](const cmmcomp::doe::AnovaRow& r) {
+    nlohmann::json o{{"ss", r.sum_of_squares},
+                     {"dof", r.dof},
+                     {"weight_pct", r.weight_percent},
+                     {"pooled", r.pooled}};
+    o["f"] = r.has_f && std::isfinite(r.f_value) ? nlohmann::json(r.f_value) : nlohmann::json();
+    return o;
+  };
+  for (const auto& f : t.factors) j[f.source] = row(f);
+  j["error"] = row(t.error);
+  j["total"] = row(t.total);
+  return j;
+}
+
+int run_anova(const std::string& path, bool json) {
+  const cmmcomp::io::DatasetAnova a =
+      cmmcomp::io::anova_of_dataset(cmmcomp::io::read_dataset_csv(path));
+  if (json) {
+    nlohmann::json j{{"runs", a.runs},
+                     {"samples", a.samples},
+                     {"mpe", table_json(a.mpe)},
+                     {"rpe", table_json(a.rpe)},
+                     {"mae", table_json(a.mae)},
+                     {"rae", table_json(a.rae)}};
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf(
+      "ANOVA of %s: %d runs (repeats averaged), %d samples; responses MPE, |RPE|, MAE, "
+      "|RAE| [um]\n\n",
+      path.c_str(),
+      a.runs,
+      a.samples);
+  std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s\n",
+              "factor",
+              "MPE w%",
+              "MPE F",
+              "RPE w%",
+              "RPE F",
+              "MAE w%",
+              "MAE F",
+              "RAE w%",
+              "RAE F");
+  const cmmcomp::doe::AnovaTable* tables[] = {&a.mpe, &a.rpe, &a.mae, &a.rae};
+  for (std::size_t f = 0; f <= a.mpe.factors.size(); ++f) {
+    const bool error_row = f == a.mpe.factors.size();
+    std::printf("%-8s", error_row ? "error" : a.mpe.factors[f].source.c_str());
+    for (const auto* t : tables) {
+      const cmmcomp::doe::AnovaRow& r = error_row ? t->error : t->factors[f];
+      if (!error_row && r.has_f && std::isfinite(r.f_value)) {
+        std::printf(" %9.2f %9.2f", r.weight_percent, r.f_value);
+      } else {
+        std::printf(" %9.2f %9s", r.weight_percent, "-");
+      }
+    }
+    std::printf("\n");
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -71,6 +321,46 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 10000000))
       ->capture_default_str();
 
+  MoveCommand move_cmd;
+  CLI::App* move = app.add_subcommand("move", "simulate one probing move; print MPE RPE MAE RAE");
+  move_cmd.move.add_to(*move);
+  move->add_option("--y", move_cmd.y_mm, "carriage position along the beam [mm]")
+      ->capture_default_str();
+  move->add_option("--machine", move_cmd.machine_path, "machine file (default: embedded)");
+  move->add_flag("--noise", move_cmd.noise, "add Table 1 measurement noise");
+  move->add_option("--seed", move_cmd.seed, "noise seed")->capture_default_str();
+  move->add_option("--trace", move_cmd.trace_path, "write the simulated trace to this CSV");
+  move->add_flag("--json", move_cmd.json, "print one JSON object");
+
+  DatasetCommand ds;
+  CLI::App* dataset = app.add_subcommand("dataset", "simulate a designed experiment to a CSV");
+  dataset->add_option("--design", ds.design, "l18 | l9 | l27 | full | lhs")
+      ->check(CLI::IsMember({"l18", "l9", "l27", "full", "lhs"}))
+      ->capture_default_str();
+  dataset->add_option("--repeats", ds.repeats, "repeats of every run")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  dataset->add_option("--samples", ds.samples, "samples of an lhs design")
+      ->check(CLI::Range(1, 10000000))
+      ->capture_default_str();
+  dataset->add_option("--levels", ds.levels, "factor levels [mm, mm/s] (lhs: min and max)")
+      ->capture_default_str();
+  dataset->add_option("--pa", ds.pa, "positioning acceleration [mm/s^2]")->capture_default_str();
+  dataset->add_option("--aa", ds.aa, "approach acceleration [mm/s^2]")->capture_default_str();
+  dataset->add_option("--y", ds.y_mm, "carriage position [mm]")->capture_default_str();
+  dataset->add_option("--machine", ds.machine_path, "machine file (default: embedded)");
+  dataset->add_flag("--noise", ds.noise, "add Table 1 measurement noise");
+  dataset->add_option("--seed", ds.seed, "noise and lhs seed")->capture_default_str();
+  dataset->add_option("--threads", ds.threads, "worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 1024));
+  dataset->add_option("-o,--output", ds.output, "output CSV")->required();
+
+  std::string anova_path;
+  bool anova_json = false;
+  CLI::App* anova = app.add_subcommand("anova", "Table 4 ANOVA of a dataset CSV");
+  anova->add_option("data", anova_path, "dataset CSV")->required();
+  anova->add_flag("--json", anova_json, "print JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -78,6 +368,9 @@ int main(int argc, char** argv) {
   }
   try {
     if (profile->parsed()) return run_profile(profile_flags, csv_path, samples);
+    if (move->parsed()) return run_move(move_cmd);
+    if (dataset->parsed()) return run_dataset(ds);
+    if (anova->parsed()) return run_anova(anova_path, anova_json);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cmmcomp-sim: %s\n", e.what());
     return 1;

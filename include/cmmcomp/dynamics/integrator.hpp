@@ -6,10 +6,9 @@
 /// CVODE beyond what CVodeReInit does (nothing).
 #pragma once
 
+#include <cmmcomp/status.hpp>
 #include <memory>
 #include <string>
-
-#include <cmmcomp/status.hpp>
 
 namespace cmmcomp::dynamics {
 
@@ -27,9 +26,9 @@ struct IntegratorOptions {
 
 /// Work counters since construction (for benchmarks and reports).
 struct IntegratorStats {
-  long steps = 0;          ///< internal steps
-  long rhs_evals = 0;      ///< right-hand-side evaluations (incl. those for Jacobians)
-  long root_evals = 0;     ///< root-function evaluations
+  long steps = 0;       ///< internal steps
+  long rhs_evals = 0;   ///< right-hand-side evaluations (incl. those for Jacobians)
+  long root_evals = 0;  ///< root-function evaluations
   long error_test_fails = 0;
 };
 

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+/// @file Simulates many probing moves in parallel into dataset rows (docs/dataset-csv.md).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/dynamics/bridge_model.hpp>
+#include <cmmcomp/dynamics/noise.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
+
+namespace cmmcomp::dynamics {
+
+/// How to simulate a dataset.
+struct DatasetOptions {
+  MeasurementNoise noise{};       ///< off by default; sample i gets noise stream i
+  int threads = 0;                ///< worker threads; 0 = all hardware threads
+  SimulationOptions simulation{};  ///< per-move integration settings
+  /// Called on the calling thread about every 100 ms and at the end: (done, total).
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+/// Simulates every row's move (its pv/pd/av/ad/pa/aa/y columns, file units) and fills its four
+/// error columns. The result does not depend on the thread count. Throws Error naming the row
+/// (1-based) whose move is invalid or whose simulation failed.
+std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
+                                             std::vector<io::DatasetRow> rows,
+                                             const DatasetOptions& options);
+
+/// The fixed settings of a design's moves, file units (mm, mm/s, mm/s²).
+struct FixedSettings {
+  double pa_mm_s2 = 200;  ///< positioning acceleration
+  double aa_mm_s2 = 60;   ///< approach acceleration
+  double y_mm = 250;      ///< carriage position
+};
+
+/// Rows (errors zero) for a design whose factors are named PV, PD, AV, AD in SI units (as
+/// doe::paper_table3_factors()); other factors are rejected with std::invalid_argument.
+std::vector<io::DatasetRow> rows_from_design(const doe::Design& design,
+                                             const FixedSettings& fixed);
+
+}  // namespace cmmcomp::dynamics

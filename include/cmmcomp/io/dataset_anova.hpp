@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+/// @file ANOVA of a dataset, as in the paper's Table 4 (offline).
+///
+/// Rows with the same move settings are one run (their repeats are averaged, as the paper does
+/// with its 3 repeats); the factors are PV, PD, AV, AD, their levels the distinct values found.
+/// PA, AA and Y must be constant. The responses are MPE, |RPE|, MAE and |RAE| (the paper reports
+/// magnitudes).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <cmmcomp/doe/anova.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
+
+namespace cmmcomp::io {
+
+/// One ANOVA table per parameter.
+struct DatasetAnova {
+  doe::AnovaTable mpe, rpe, mae, rae;
+  int runs = 0;     ///< distinct move settings
+  int samples = 0;  ///< rows
+};
+
+/// Factor names in the tables.
+inline const std::array<std::string, 4> kAnovaFactors = {"PV", "PD", "AV", "AD"};
+
+/// Throws std::invalid_argument when PA, AA or Y vary, when a factor has a single level, or when
+/// the runs are not an orthogonal design (the message names the factors).
+inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
+                                     const doe::AnovaOptions& options = {}) {
+  if (rows.empty()) throw std::invalid_argument("anova: the dataset is empty");
+  for (const DatasetRow& r : rows) {
+    if (r.pa_mm_s2 != rows[0].pa_mm_s2 || r.aa_mm_s2 != rows[0].aa_mm_s2 ||
+        r.y_mm != rows[0].y_mm) {
+      throw std::invalid_argument(
+          "anova: pa_mm_s2, aa_mm_s2 and y_mm must be the same in every row (the ANOVA covers "
+          "PV, PD, AV, AD)");
+    }
+  }
+  using Key = std::array<double, 4>;
+  auto key_of = [](const DatasetRow& r) { return Key{r.pv_mm_s, r.pd_mm, r.av_mm_s, r.ad_mm}; };
+  std::map<Key, std::array<double, 5>> sums;  // mpe, |rpe|, mae, |rae|, count
+  std::vector<Key> order;
+  for (const DatasetRow& r : rows) {
+    auto [it, inserted] = sums.try_emplace(key_of(r), std::array<double, 5>{});
+    if (inserted) order.push_back(key_of(r));
+    it->second[0] += r.mpe_um;
+    it->second[1] += std::fabs(r.rpe_um);
+    it->second[2] += r.mae_um;
+    it->second[3] += std::fabs(r.rae_um);
+    it->second[4] += 1.0;
+  }
+  std::array<std::vector<double>, 4> levels;
+  for (std::size_t f = 0; f < 4; ++f) {
+    for (const Key& k : order) levels[f].push_back(k[f]);
+    std::sort(levels[f].begin(), levels[f].end());
+    levels[f].erase(std::unique(levels[f].begin(), levels[f].end()), levels[f].end());
+    if (levels[f].size() < 2) {
+      throw std::invalid_argument("anova: factor " + kAnovaFactors[f] + " has a single level");
+    }
+  }
+  std::vector<std::string> names(kAnovaFactors.begin(), kAnovaFactors.end());
+  std::vector<int> counts;
+  for (const auto& l : levels) counts.push_back(static_cast<int>(l.size()));
+  std::vector<std::vector<int>> indices;
+  std::array<std::vector<double>, 4> means;
+  for (const Key& k : order) {
+    std::vector<int> idx;
+    for (std::size_t f = 0; f < 4; ++f) {
+      idx.push_back(static_cast<int>(
+          std::lower_bound(levels[f].begin(), levels[f].end(), k[f]) - levels[f].begin()));
+    }
+    indices.push_back(idx);
+    const auto& s = sums.at(k);
+    for (std::size_t p = 0; p < 4; ++p) means[p].push_back(s[p] / s[4]);
+  }
+  DatasetAnova out;
+  out.mpe = doe::anova(names, counts, indices, means[0], options);
+  out.rpe = doe::anova(names, counts, indices, means[1], options);
+  out.mae = doe::anova(names, counts, indices, means[2], options);
+  out.rae = doe::anova(names, counts, indices, means[3], options);
+  out.runs = static_cast<int>(order.size());
+  out.samples = static_cast<int>(rows.size());
+  return out;
+}
+
+}  // namespace cmmcomp::io
