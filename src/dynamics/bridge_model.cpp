@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: MIT
 /// @file The bridge/carriage dynamics model and its per-move simulation.
-#include <cmmcomp/dynamics/bridge_model.hpp>
+#include <fmt/format.h>
 
 #include <array>
 #include <cmath>
-#include <string>
-
+#include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/error.hpp>
-#include <fmt/format.h>
+#include <string>
 
 namespace cmmcomp::dynamics {
 namespace {
@@ -97,11 +96,11 @@ double derivatives(const Coefficients& c,
   // Appendages: base-excited by the bridge, dragged by the floor/trough.
   const double v3 = v * v * v;
   dy[kChain] = y[kChainRate];
-  dy[kChainRate] = (c.mk * a + c.dk1 * v + c.dk3 * v3 - c.ck * y[kChainRate] - c.kk * y[kChain]) /
-                   c.mk;
+  dy[kChainRate] =
+      (c.mk * a + c.dk1 * v + c.dk3 * v3 - c.ck * y[kChainRate] - c.kk * y[kChain]) / c.mk;
   dy[kHose] = y[kHoseRate];
-  dy[kHoseRate] = (c.mw * a + c.dw1 * v + c.dw3 * v3 - c.cw * y[kHoseRate] - c.kw * y[kHose]) /
-                  c.mw;
+  dy[kHoseRate] =
+      (c.mw * a + c.dw1 * v + c.dw3 * v3 - c.cw * y[kHoseRate] - c.kw * y[kHose]) / c.mw;
   // Bridge yaw about the drive leg: inertia plus the appendages' pull at their arms.
   dy[kYaw] = y[kYawRate];
   dy[kYawRate] = (c.yaw_moment * a + c.arm_idle * chain_pull + c.arm_hose * hose_pull -
@@ -109,8 +108,7 @@ double derivatives(const Coefficients& c,
                  c.yaw_inertia;
   // Carriage and ram on the beam: inertia plus the hose pull.
   dy[kCarriage] = y[kCarriageRate];
-  dy[kCarriageRate] =
-      (c.mc * a + hose_pull - c.cq * y[kCarriageRate] - c.kq * y[kCarriage]) / c.mc;
+  dy[kCarriageRate] = (c.mc * a + hose_pull - c.cq * y[kCarriageRate] - c.kq * y[kCarriage]) / c.mc;
   return a;
 }
 
@@ -177,8 +175,8 @@ const Machine& BridgeSimulator::machine() const noexcept { return impl_->machine
 
 SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, double carriage_y_m) {
   if (!(carriage_y_m >= 0.0 && carriage_y_m <= kMaxCarriageY)) {
-    throw Error(fmt::format("carriage position Y = {} m is outside 0 .. {} m", carriage_y_m,
-                            kMaxCarriageY));
+    throw Error(fmt::format(
+        "carriage position Y = {} m is outside 0 .. {} m", carriage_y_m, kMaxCarriageY));
   }
   motion::MoveProfile profile;
   const Status planned = motion::MoveProfile::plan(move, profile);
@@ -224,7 +222,8 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
     const double t_end = seg.end_time();
     if (!ok(m.integrator.reset(seg.start_time, y.data())) ||
         !ok(m.integrator.set_stop_time(t_end))) {
-      throw Error(fmt::format("CVODE could not restart at t = {} s ({})", seg.start_time,
+      throw Error(fmt::format("CVODE could not restart at t = {} s ({})",
+                              seg.start_time,
                               m.integrator.last_flag_name()));
     }
     // Output grid: multiples of dt inside the segment, then the segment end (a kink).
@@ -236,8 +235,10 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
       bool root = false;
       double reached = t;
       if (!ok(m.integrator.advance_to(target, y.data(), &reached, &root))) {
-        throw Error(fmt::format("CVODE failed at t = {:.6f} s of a {:.6f} s move: {}", reached,
-                                touch, m.integrator.last_flag_name()));
+        throw Error(fmt::format("CVODE failed at t = {:.6f} s of a {:.6f} s move: {}",
+                                reached,
+                                touch,
+                                m.integrator.last_flag_name()));
       }
       if (!(reached > t)) {
         // Root exactly at the restart point: nothing new to record.
@@ -252,8 +253,8 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
   }
 
   const errors::TraceView view{times.data(), errs.data(), times.size()};
-  const Status extracted = errors::extract_dynamic_errors(view, result.instants, +1,
-                                                          result.errors_um);
+  const Status extracted =
+      errors::extract_dynamic_errors(view, result.instants, +1, result.errors_um);
   if (!ok(extracted)) {
     throw Error(std::string("cannot extract the dynamic errors: ") + to_string(extracted));
   }

@@ -1,17 +1,16 @@
 // SPDX-License-Identifier: MIT
 /// @file Parallel, deterministic dataset simulation.
-#include <cmmcomp/dynamics/dataset.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmmcomp/dynamics/dataset.hpp>
+#include <cmmcomp/error.hpp>
 #include <exception>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
-
-#include <cmmcomp/error.hpp>
-#include <fmt/format.h>
 
 namespace cmmcomp::dynamics {
 
@@ -35,8 +34,12 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
       BridgeSimulator sim(machine, options.simulation);
       for (std::size_t i = next++; i < total && !failed; i = next++) {
         io::DatasetRow& r = rows[i];
-        const motion::ProbingMove move{r.pv_mm_s * 1e-3, r.pa_mm_s2 * 1e-3, r.pd_mm * 1e-3,
-                                       r.av_mm_s * 1e-3, r.aa_mm_s2 * 1e-3, r.ad_mm * 1e-3,
+        const motion::ProbingMove move{r.pv_mm_s * 1e-3,
+                                       r.pa_mm_s2 * 1e-3,
+                                       r.pd_mm * 1e-3,
+                                       r.av_mm_s * 1e-3,
+                                       r.aa_mm_s2 * 1e-3,
+                                       r.ad_mm * 1e-3,
                                        0.0};
         try {
           const SimulationResult res = sim.simulate(move, r.y_mm * 1e-3);
@@ -49,8 +52,8 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
           std::lock_guard<std::mutex> lock(error_mutex);
           if (i < first_error_row) {
             first_error_row = i;
-            first_error = std::make_exception_ptr(
-                Error(fmt::format("dataset row {}: {}", i + 1, ex.what())));
+            first_error =
+                std::make_exception_ptr(Error(fmt::format("dataset row {}: {}", i + 1, ex.what())));
           }
           failed = true;
         }

@@ -1,15 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @file The machine parameter table and the TOML machine file.
-#include <cmmcomp/dynamics/machine.hpp>
+#include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <cmath>
+#include <cmmcomp/dynamics/machine.hpp>
+#include <cmmcomp/error.hpp>
 #include <fstream>
 #include <set>
 #include <sstream>
-
-#include <cmmcomp/error.hpp>
-#include <fmt/format.h>
-#include <toml++/toml.h>
 
 namespace cmmcomp::dynamics {
 namespace {
@@ -30,56 +29,175 @@ using Info = ParameterInfo<P>;
 
 const std::vector<Info>& machine_parameter_table() {
   static const std::vector<Info> table = {
-      {"servo", "bandwidth_hz", "closed-loop position bandwidth of the X drive",
-       &P::servo_bandwidth_hz, 1.0, 500.0, false},
-      {"servo", "damping_ratio", "closed-loop damping ratio of the X drive",
-       &P::servo_damping_ratio, 0.05, 5.0, false},
-      {"servo", "feedforward_gain", "acceleration feed-forward gain (1 = exact)",
-       &P::servo_feedforward_gain, 0.0, 1.5, false},
-      {"servo", "moving_mass_kg", "mass the X drive accelerates (bridge, carriage, ram)",
-       &P::servo_moving_mass_kg, 1.0, 1e5, false},
-      {"servo", "bearing_drag_Ns_per_m", "viscous drag of the air bearings on the drive",
-       &P::servo_bearing_drag_Ns_per_m, 0.0, 1e6, false},
-      {"bridge", "yaw_inertia_kgm2", "yaw inertia of the bridge about the drive leg",
-       &P::yaw_inertia_kgm2, 1e-3, 1e5, true},
-      {"bridge", "yaw_static_moment_kgm", "first moment of the bridge mass about the drive leg",
-       &P::yaw_static_moment_kgm, 0.0, 1e5, true},
-      {"bridge", "yaw_stiffness_Nm_per_rad", "yaw stiffness of air bearings and supports",
-       &P::yaw_stiffness_Nm_per_rad, 1.0, 1e12, true},
-      {"bridge", "yaw_damping_Nms_per_rad", "yaw damping of air bearings and supports",
-       &P::yaw_damping_Nms_per_rad, 0.0, 1e9, true},
-      {"bridge", "idle_leg_arm_m", "distance from the drive leg to the idle leg",
-       &P::idle_leg_arm_m, 0.01, 20.0, false},
-      {"bridge", "scale_offset_m", "distance from the drive leg (scale) to the carriage at Y = 0",
-       &P::scale_offset_m, 0.0, 5.0, false},
-      {"carriage", "mass_kg", "mass of the carriage and ram", &P::carriage_mass_kg, 0.1, 1e4,
+      {"servo",
+       "bandwidth_hz",
+       "closed-loop position bandwidth of the X drive",
+       &P::servo_bandwidth_hz,
+       1.0,
+       500.0,
+       false},
+      {"servo",
+       "damping_ratio",
+       "closed-loop damping ratio of the X drive",
+       &P::servo_damping_ratio,
+       0.05,
+       5.0,
+       false},
+      {"servo",
+       "feedforward_gain",
+       "acceleration feed-forward gain (1 = exact)",
+       &P::servo_feedforward_gain,
+       0.0,
+       1.5,
+       false},
+      {"servo",
+       "moving_mass_kg",
+       "mass the X drive accelerates (bridge, carriage, ram)",
+       &P::servo_moving_mass_kg,
+       1.0,
+       1e5,
+       false},
+      {"servo",
+       "bearing_drag_Ns_per_m",
+       "viscous drag of the air bearings on the drive",
+       &P::servo_bearing_drag_Ns_per_m,
+       0.0,
+       1e6,
+       false},
+      {"bridge",
+       "yaw_inertia_kgm2",
+       "yaw inertia of the bridge about the drive leg",
+       &P::yaw_inertia_kgm2,
+       1e-3,
+       1e5,
        true},
-      {"carriage", "damping_Ns_per_m", "lateral (X) damping of the carriage on the beam",
-       &P::carriage_damping_Ns_per_m, 0.0, 1e9, true},
-      {"beam", "base_compliance_m_per_N", "lateral compliance at the carriage for Y = 0",
-       &P::beam_base_compliance_m_per_N, 1e-12, 1e-3, true},
-      {"beam", "bending_EI_Nm2", "lateral bending stiffness EI (cantilever from the drive leg)",
-       &P::beam_bending_EI_Nm2, 1.0, 1e12, true},
-      {"cable_chain", "mass_kg", "moving mass of the X energy chain", &P::chain_mass_kg, 1e-3,
-       1e3, true},
-      {"cable_chain", "stiffness_N_per_m", "stiffness of the chain's attachment to the bridge",
-       &P::chain_stiffness_N_per_m, 1e-3, 1e9, true},
-      {"cable_chain", "damping_Ns_per_m", "damping of the chain's attachment",
-       &P::chain_damping_Ns_per_m, 0.0, 1e7, true},
-      {"cable_chain", "drag_linear_Ns_per_m", "rolling drag of the chain, linear in speed",
-       &P::chain_drag_linear_Ns_per_m, 0.0, 1e7, true},
-      {"cable_chain", "drag_cubic_Ns3_per_m3", "rolling drag of the chain, cubic in speed",
-       &P::chain_drag_cubic_Ns3_per_m3, 0.0, 1e10, true},
-      {"hose", "mass_kg", "moving mass of the carriage supply hose", &P::hose_mass_kg, 1e-3, 1e3,
+      {"bridge",
+       "yaw_static_moment_kgm",
+       "first moment of the bridge mass about the drive leg",
+       &P::yaw_static_moment_kgm,
+       0.0,
+       1e5,
        true},
-      {"hose", "stiffness_N_per_m", "stiffness of the hose's attachment to the carriage",
-       &P::hose_stiffness_N_per_m, 1e-3, 1e9, true},
-      {"hose", "damping_Ns_per_m", "damping of the hose's attachment", &P::hose_damping_Ns_per_m,
-       0.0, 1e7, true},
-      {"hose", "drag_linear_Ns_per_m", "drag on the hose, linear in speed",
-       &P::hose_drag_linear_Ns_per_m, 0.0, 1e7, true},
-      {"hose", "drag_cubic_Ns3_per_m3", "drag on the hose, cubic in speed",
-       &P::hose_drag_cubic_Ns3_per_m3, 0.0, 1e10, true},
+      {"bridge",
+       "yaw_stiffness_Nm_per_rad",
+       "yaw stiffness of air bearings and supports",
+       &P::yaw_stiffness_Nm_per_rad,
+       1.0,
+       1e12,
+       true},
+      {"bridge",
+       "yaw_damping_Nms_per_rad",
+       "yaw damping of air bearings and supports",
+       &P::yaw_damping_Nms_per_rad,
+       0.0,
+       1e9,
+       true},
+      {"bridge",
+       "idle_leg_arm_m",
+       "distance from the drive leg to the idle leg",
+       &P::idle_leg_arm_m,
+       0.01,
+       20.0,
+       false},
+      {"bridge",
+       "scale_offset_m",
+       "distance from the drive leg (scale) to the carriage at Y = 0",
+       &P::scale_offset_m,
+       0.0,
+       5.0,
+       false},
+      {"carriage", "mass_kg", "mass of the carriage and ram", &P::carriage_mass_kg, 0.1, 1e4, true},
+      {"carriage",
+       "damping_Ns_per_m",
+       "lateral (X) damping of the carriage on the beam",
+       &P::carriage_damping_Ns_per_m,
+       0.0,
+       1e9,
+       true},
+      {"beam",
+       "base_compliance_m_per_N",
+       "lateral compliance at the carriage for Y = 0",
+       &P::beam_base_compliance_m_per_N,
+       1e-12,
+       1e-3,
+       true},
+      {"beam",
+       "bending_EI_Nm2",
+       "lateral bending stiffness EI (cantilever from the drive leg)",
+       &P::beam_bending_EI_Nm2,
+       1.0,
+       1e12,
+       true},
+      {"cable_chain",
+       "mass_kg",
+       "moving mass of the X energy chain",
+       &P::chain_mass_kg,
+       1e-3,
+       1e3,
+       true},
+      {"cable_chain",
+       "stiffness_N_per_m",
+       "stiffness of the chain's attachment to the bridge",
+       &P::chain_stiffness_N_per_m,
+       1e-3,
+       1e9,
+       true},
+      {"cable_chain",
+       "damping_Ns_per_m",
+       "damping of the chain's attachment",
+       &P::chain_damping_Ns_per_m,
+       0.0,
+       1e7,
+       true},
+      {"cable_chain",
+       "drag_linear_Ns_per_m",
+       "rolling drag of the chain, linear in speed",
+       &P::chain_drag_linear_Ns_per_m,
+       0.0,
+       1e7,
+       true},
+      {"cable_chain",
+       "drag_cubic_Ns3_per_m3",
+       "rolling drag of the chain, cubic in speed",
+       &P::chain_drag_cubic_Ns3_per_m3,
+       0.0,
+       1e10,
+       true},
+      {"hose",
+       "mass_kg",
+       "moving mass of the carriage supply hose",
+       &P::hose_mass_kg,
+       1e-3,
+       1e3,
+       true},
+      {"hose",
+       "stiffness_N_per_m",
+       "stiffness of the hose's attachment to the carriage",
+       &P::hose_stiffness_N_per_m,
+       1e-3,
+       1e9,
+       true},
+      {"hose",
+       "damping_Ns_per_m",
+       "damping of the hose's attachment",
+       &P::hose_damping_Ns_per_m,
+       0.0,
+       1e7,
+       true},
+      {"hose",
+       "drag_linear_Ns_per_m",
+       "drag on the hose, linear in speed",
+       &P::hose_drag_linear_Ns_per_m,
+       0.0,
+       1e7,
+       true},
+      {"hose",
+       "drag_cubic_Ns3_per_m3",
+       "drag on the hose, cubic in speed",
+       &P::hose_drag_cubic_Ns3_per_m3,
+       0.0,
+       1e10,
+       true},
   };
   return table;
 }
@@ -90,7 +208,11 @@ bool is_physical(const MachineParameters& p, std::string* why) {
     if (!(v >= info.min && v <= info.max)) {
       if (why != nullptr) {
         *why = fmt::format("'{}.{}' = {} is outside its physical range [{:g}, {:g}]",
-                           info.section, info.key, v, info.min, info.max);
+                           info.section,
+                           info.key,
+                           v,
+                           info.min,
+                           info.max);
       }
       return false;
     }
@@ -103,8 +225,8 @@ Machine parse_machine(const std::string& text, const std::string& source) {
   try {
     doc = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
-    throw ConfigError(fmt::format("{}:{}: TOML syntax error: {}", source,
-                                  e.source().begin.line, e.description()));
+    throw ConfigError(fmt::format(
+        "{}:{}: TOML syntax error: {}", source, e.source().begin.line, e.description()));
   }
   auto where = [&source](const toml::node& n) {
     return fmt::format("{}:{}", source, n.source().begin.line);
@@ -116,9 +238,11 @@ Machine parse_machine(const std::string& text, const std::string& source) {
                       std::to_string(kMachineFileVersion) + ")");
   }
   if (!version->is_integer() || version->as_integer()->get() != kMachineFileVersion) {
-    throw ConfigError(fmt::format("{}: format_version must be {} (this library's machine-file "
-                                  "format)",
-                                  where(*version), kMachineFileVersion));
+    throw ConfigError(
+        fmt::format("{}: format_version must be {} (this library's machine-file "
+                    "format)",
+                    where(*version),
+                    kMachineFileVersion));
   }
 
   Machine m;
@@ -148,7 +272,11 @@ Machine parse_machine(const std::string& text, const std::string& source) {
       }
       if (!(*v >= info->min && *v <= info->max)) {
         throw ConfigError(fmt::format("{}: key '{}' = {} is not physical (allowed {:g} .. {:g})",
-                                      where(value), full, *v, info->min, info->max));
+                                      where(value),
+                                      full,
+                                      *v,
+                                      info->min,
+                                      info->max));
       }
       m.parameters.*info->field = *v;
       seen.insert(full);
@@ -177,15 +305,20 @@ std::string format_machine(const Machine& machine) {
   fmt::format_to(std::back_inserter(s),
                  "# cmmcomp machine file (docs/machine-file.md). Units are in the key names.\n"
                  "format_version = {}\nname = {}\ndescription = {}\n",
-                 kMachineFileVersion, quoted(machine.name), quoted(machine.description));
+                 kMachineFileVersion,
+                 quoted(machine.name),
+                 quoted(machine.description));
   const char* section = "";
   for (const Info& info : machine_parameter_table()) {
     if (std::string(section) != info.section) {
       section = info.section;
       fmt::format_to(std::back_inserter(s), "\n[{}]\n", section);
     }
-    fmt::format_to(std::back_inserter(s), "{} = {:.9g}  # {}\n", info.key,
-                   machine.parameters.*info.field, info.description);
+    fmt::format_to(std::back_inserter(s),
+                   "{} = {:.9g}  # {}\n",
+                   info.key,
+                   machine.parameters.*info.field,
+                   info.description);
   }
   return s;
 }

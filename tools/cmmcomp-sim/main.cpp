@@ -13,6 +13,7 @@
 #include <cmmcomp/io/dataset_anova.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
+#include <cmmcomp/training/machine_identification.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
 #include <exception>
@@ -304,6 +305,67 @@ int run_anova(const std::string& path, bool json) {
   return 0;
 }
 
+struct IdentifyCommand {
+  std::string measured, machine_path, output, anova_targets, free;
+  bool magnitudes = false;
+  int max_iterations = 50, threads = 0;
+  double anova_y_mm = 250;
+};
+
+int run_identify(const IdentifyCommand& cmd) {
+  using namespace cmmcomp::training;
+  const cmmcomp::dynamics::Machine start = machine_from(cmd.machine_path);
+  IdentificationTargets targets;
+  targets.moves = cmmcomp::io::read_dataset_csv(cmd.measured);
+  targets.compare_magnitudes = cmd.magnitudes;
+  if (!cmd.anova_targets.empty()) {
+    targets.anova = read_anova_targets(cmd.anova_targets);
+    targets.anova.fixed.y_mm = cmd.anova_y_mm;
+  }
+  IdentificationOptions options;
+  options.max_iterations = cmd.max_iterations;
+  options.threads = cmd.threads;
+  if (!cmd.free.empty()) {
+    std::istringstream names(cmd.free);
+    std::string name;
+    while (std::getline(names, name, ',')) options.free_parameters.push_back(name);
+  }
+  if (isatty(fileno(stderr)) != 0) {
+    options.progress = [](int iteration, double cost) {
+      std::fprintf(stderr, "iteration %3d  cost %.6g\n", iteration, cost);
+    };
+  }
+  const IdentificationReport r = identify_machine(start, targets, options);
+  std::printf("identification of '%s' from %s: %d iterations, cost %.6g -> %.6g (%s)\n\n",
+              start.name.c_str(),
+              cmd.measured.c_str(),
+              r.iterations,
+              r.initial_cost,
+              r.final_cost,
+              r.termination.c_str());
+  std::printf("%-42s %14s %14s\n", "parameter", "start", "fitted");
+  for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
+    std::printf("%-42s %14.6g %14.6g\n",
+                r.free_parameters[i].c_str(),
+                r.start_values[i],
+                r.fitted_values[i]);
+  }
+  std::printf("\n%-42s %10s %10s %10s\n", "residual", "target", "fitted", "(f-t)/sigma");
+  for (const IdentificationResidual& res : r.residuals) {
+    std::printf(
+        "%-42s %10.3f %10.3f %10.2f\n", res.name.c_str(), res.target, res.fitted, res.normalized);
+  }
+  if (!r.usable) {
+    std::fprintf(stderr, "cmmcomp-sim: the fit is not usable: %s\n", r.termination.c_str());
+    return 1;
+  }
+  std::ofstream out(cmd.output);
+  out << cmmcomp::dynamics::format_machine(r.fitted);
+  if (!out) throw cmmcomp::Error(cmd.output + ": cannot write");
+  std::printf("\nwrote %s\n", cmd.output.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -361,6 +423,23 @@ int main(int argc, char** argv) {
   anova->add_option("data", anova_path, "dataset CSV")->required();
   anova->add_flag("--json", anova_json, "print JSON");
 
+  IdentifyCommand id;
+  CLI::App* identify =
+      app.add_subcommand("identify", "fit a machine file to measured moves (Ceres)");
+  identify->add_option("measured", id.measured, "measured moves (dataset CSV schema)")->required();
+  identify->add_option("--machine", id.machine_path, "start machine (default: embedded)");
+  identify->add_option("-o,--output", id.output, "fitted machine file")->required();
+  identify->add_option("--anova-targets",
+                       id.anova_targets,
+                       "also fit L18 ANOVA weights (CSV in the layout of the paper's Table 4)");
+  identify->add_option("--anova-y", id.anova_y_mm, "carriage Y of the ANOVA experiment [mm]")
+      ->capture_default_str();
+  identify->add_flag("--magnitudes", id.magnitudes, "measured RPE/RAE are magnitudes");
+  identify->add_option("--free", id.free, "comma-separated section.key list to fit (default all)");
+  identify->add_option("--max-iterations", id.max_iterations, "Levenberg-Marquardt iterations")
+      ->capture_default_str();
+  identify->add_option("--threads", id.threads, "threads (0 = all cores)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -371,6 +450,7 @@ int main(int argc, char** argv) {
     if (move->parsed()) return run_move(move_cmd);
     if (dataset->parsed()) return run_dataset(ds);
     if (anova->parsed()) return run_anova(anova_path, anova_json);
+    if (identify->parsed()) return run_identify(id);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cmmcomp-sim: %s\n", e.what());
     return 1;

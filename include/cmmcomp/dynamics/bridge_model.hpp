@@ -7,13 +7,12 @@
 /// every extremum of the error is an exact sample.
 #pragma once
 
-#include <memory>
-#include <vector>
-
 #include <cmmcomp/dynamics/integrator.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/errors/dynamic_errors.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
+#include <memory>
+#include <vector>
 
 namespace cmmcomp::dynamics {
 
@@ -28,21 +27,21 @@ struct SimulationOptions {
 
 /// One sample of a simulated move. Positions from the move start along the axis.
 struct TraceSample {
-  double t_s = 0;               ///< time [s]
-  double commanded_mm = 0;      ///< commanded position [mm]
-  double scale_mm = 0;          ///< X scale reading (drive side) [mm]
-  double tip_mm = 0;            ///< probe tip [mm]
-  double error_um = 0;          ///< e = (tip − scale)·d [µm]
-  double velocity_mm_s = 0;     ///< drive velocity [mm/s]
+  double t_s = 0;                 ///< time [s]
+  double commanded_mm = 0;        ///< commanded position [mm]
+  double scale_mm = 0;            ///< X scale reading (drive side) [mm]
+  double tip_mm = 0;              ///< probe tip [mm]
+  double error_um = 0;            ///< e = (tip − scale)·d [µm]
+  double velocity_mm_s = 0;       ///< drive velocity [mm/s]
   double acceleration_mm_s2 = 0;  ///< drive acceleration [mm/s²]
 };
 
 /// The outcome of one simulated move.
 struct SimulationResult {
-  errors::DynamicErrors errors_um;     ///< MPE, RPE, MAE, RAE [µm], noiseless
-  motion::PhaseInstants instants;      ///< of the planned profile
-  std::vector<TraceSample> trace;      ///< empty unless SimulationOptions::record_trace
-  IntegratorStats stats;               ///< CVODE work for this move
+  errors::DynamicErrors errors_um;  ///< MPE, RPE, MAE, RAE [µm], noiseless
+  motion::PhaseInstants instants;   ///< of the planned profile
+  std::vector<TraceSample> trace;   ///< empty unless SimulationOptions::record_trace
+  IntegratorStats stats;            ///< CVODE work for this move
 };
 
 /// Simulates moves on one machine. Not thread-safe: use one per thread (construction is cheap).

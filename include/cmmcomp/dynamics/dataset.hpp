@@ -2,22 +2,21 @@
 /// @file Simulates many probing moves in parallel into dataset rows (docs/dataset-csv.md).
 #pragma once
 
+#include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/dynamics/bridge_model.hpp>
+#include <cmmcomp/dynamics/noise.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
 #include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include <cmmcomp/doe/designs.hpp>
-#include <cmmcomp/dynamics/bridge_model.hpp>
-#include <cmmcomp/dynamics/noise.hpp>
-#include <cmmcomp/io/dataset_csv.hpp>
-
 namespace cmmcomp::dynamics {
 
 /// How to simulate a dataset.
 struct DatasetOptions {
-  MeasurementNoise noise{};       ///< off by default; sample i gets noise stream i
-  int threads = 0;                ///< worker threads; 0 = all hardware threads
+  MeasurementNoise noise{};        ///< off by default; sample i gets noise stream i
+  int threads = 0;                 ///< worker threads; 0 = all hardware threads
   SimulationOptions simulation{};  ///< per-move integration settings
   /// Called on the calling thread about every 100 ms and at the end: (done, total).
   std::function<void(std::size_t, std::size_t)> progress;
@@ -39,7 +38,6 @@ struct FixedSettings {
 
 /// Rows (errors zero) for a design whose factors are named PV, PD, AV, AD in SI units (as
 /// doe::paper_table3_factors()); other factors are rejected with std::invalid_argument.
-std::vector<io::DatasetRow> rows_from_design(const doe::Design& design,
-                                             const FixedSettings& fixed);
+std::vector<io::DatasetRow> rows_from_design(const doe::Design& design, const FixedSettings& fixed);
 
 }  // namespace cmmcomp::dynamics

@@ -3,9 +3,8 @@
 #pragma once
 
 #include <cmath>
-#include <cstdint>
-
 #include <cmmcomp/errors/dynamic_errors.hpp>
+#include <cstdint>
 
 namespace cmmcomp::dynamics {
 
@@ -13,7 +12,7 @@ namespace cmmcomp::dynamics {
 /// are the paper's Table 1 (five repeats at the baseline). Noise for sample i depends only on
 /// (seed, i), never on thread count or order.
 struct MeasurementNoise {
-  bool enabled = false;        ///< off: parameters are returned as simulated
+  bool enabled = false;         ///< off: parameters are returned as simulated
   double mpe_sigma_um = 1.321;  ///< standard deviation on MPE [µm]
   double rpe_sigma_um = 0.461;  ///< on RPE [µm]
   double mae_sigma_um = 0.612;  ///< on MAE [µm]

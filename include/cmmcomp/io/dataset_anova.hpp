@@ -10,13 +10,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cmmcomp/doe/anova.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <cmmcomp/doe/anova.hpp>
-#include <cmmcomp/io/dataset_csv.hpp>
 
 namespace cmmcomp::io {
 
@@ -73,8 +72,8 @@ inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
   for (const Key& k : order) {
     std::vector<int> idx;
     for (std::size_t f = 0; f < 4; ++f) {
-      idx.push_back(static_cast<int>(
-          std::lower_bound(levels[f].begin(), levels[f].end(), k[f]) - levels[f].begin()));
+      idx.push_back(static_cast<int>(std::lower_bound(levels[f].begin(), levels[f].end(), k[f]) -
+                                     levels[f].begin()));
     }
     indices.push_back(idx);
     const auto& s = sums.at(k);

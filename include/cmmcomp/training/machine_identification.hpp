@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+/// @file Fits a machine file's physical parameters to measured moves (and ANOVA shares) with Ceres.
+///
+/// Offline; the only Ceres user besides the fuzzy-network trainer. Each free parameter is fitted
+/// in log space inside its physical bounds (machine_parameter_table()), so it stays positive.
+/// The residuals are (simulated − measured) / σ for every measured move and parameter, plus,
+/// optionally, (model share − target share) / σ_share for the ANOVA weights of an L18 experiment
+/// (how the default machine is identified against the paper's Table 4).
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <cmmcomp/dynamics/dataset.hpp>
+#include <cmmcomp/dynamics/machine.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
+
+namespace cmmcomp::training {
+
+/// Target ANOVA weights [%] of an L18 × repeats experiment, per parameter (MPE, RPE, MAE, RAE)
+/// and source (PV, PD, AV, AD, error). The model's shares are computed from its noiseless run
+/// values plus the expected contribution of the measurement noise: each factor gets
+/// dof·σ²/repeats, the error row (runs − 1 − Σ dof)·σ²/repeats.
+struct AnovaTargets {
+  bool enabled = false;
+  std::array<std::array<double, 5>, 4> weight_pct{};  ///< [parameter][PV, PD, AV, AD, error]
+  int repeats = 3;                                    ///< repeats per run in the experiment
+  dynamics::FixedSettings fixed{};                    ///< PA, AA, Y of the experiment
+  double sigma_pct = 3.0;  ///< share residual scale [percentage points]
+};
+
+/// What to fit.
+struct IdentificationTargets {
+  std::vector<io::DatasetRow> moves;  ///< measured moves: settings and their four errors [µm]
+  /// Compare |RPE| and |RAE| (for data that reports magnitudes, like the paper's tables).
+  bool compare_magnitudes = false;
+  AnovaTargets anova{};
+};
+
+/// How to fit.
+struct IdentificationOptions {
+  /// Keys ("section.key") of the parameters to fit; empty = every identifiable one.
+  std::vector<std::string> free_parameters;
+  /// Residual scale per parameter [µm]; defaults: the paper's Table 1 standard deviations.
+  std::array<double, 4> sigma_um{1.321, 0.461, 0.612, 0.304};
+  int max_iterations = 50;    ///< Levenberg–Marquardt iterations
+  int threads = 0;            ///< simulation threads (0 = all cores)
+  double log_step = 1e-4;     ///< finite-difference step in log(parameter)
+  /// Called after each iteration: (iteration, cost).
+  std::function<void(int, double)> progress;
+
+  bool is_valid(std::string* why) const;
+};
+
+/// One residual of the fit, for the report.
+struct IdentificationResidual {
+  std::string name;      ///< e.g. "move 2 (Y 500 mm) MAE" or "ANOVA RAE AD weight"
+  double target = 0;     ///< measured value [µm] or share [%]
+  double fitted = 0;     ///< model value at the end
+  double normalized = 0;  ///< (fitted − target) / σ
+};
+
+/// The outcome.
+struct IdentificationReport {
+  dynamics::Machine fitted;              ///< the start machine with the free parameters fitted
+  std::vector<std::string> free_parameters;
+  std::vector<double> start_values, fitted_values;  ///< of the free parameters, SI
+  double initial_cost = 0, final_cost = 0;          ///< ½ Σ normalized²
+  int iterations = 0;
+  std::string termination;  ///< Ceres' message
+  bool usable = false;      ///< Ceres converged or stopped at the iteration limit without error
+  std::vector<IdentificationResidual> residuals;
+};
+
+/// Runs the fit. Throws ConfigError for invalid options, an unknown or non-identifiable parameter
+/// name, or no targets; Error when a simulation fails at the start point.
+IdentificationReport identify_machine(const dynamics::Machine& start,
+                                      const IdentificationTargets& targets,
+                                      const IdentificationOptions& options);
+
+/// Reads ANOVA targets in the layout of the paper's Table 4 CSV
+/// (`factor,mpe_weight_pct,mpe_f,rpe_weight_pct,rpe_f,mae_weight_pct,mae_f,rae_weight_pct,rae_f`,
+/// rows PV, PD, AV, AD and error in any order; F columns ignored). Throws ConfigError naming the
+/// file and line.
+AnovaTargets read_anova_targets(const std::string& path);
+
+}  // namespace cmmcomp::training

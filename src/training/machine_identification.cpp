@@ -1,0 +1,383 @@
+// SPDX-License-Identifier: MIT
+/// @file Machine identification with Ceres (Levenberg–Marquardt, finite-difference Jacobian).
+#include <cmmcomp/training/machine_identification.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <ceres/ceres.h>
+#include <cmmcomp/doe/anova.hpp>
+#include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/error.hpp>
+#include <fmt/format.h>
+
+namespace cmmcomp::training {
+namespace {
+
+using dynamics::Machine;
+using dynamics::MachineParameters;
+using Info = dynamics::ParameterInfo<MachineParameters>;
+
+constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
+constexpr const char* kSourceNames[5] = {"PV", "PD", "AV", "AD", "error"};
+
+std::array<double, 4> errors_of(const io::DatasetRow& r, bool magnitudes) {
+  return {r.mpe_um, magnitudes ? std::fabs(r.rpe_um) : r.rpe_um, r.mae_um,
+          magnitudes ? std::fabs(r.rae_um) : r.rae_um};
+}
+
+/// Everything one evaluation of the residuals needs; evaluations are independent.
+class Problem {
+ public:
+  Problem(const Machine& start,
+          const IdentificationTargets& targets,
+          const IdentificationOptions& options,
+          std::vector<const Info*> free)
+      : start_(start), targets_(targets), options_(options), free_(std::move(free)) {
+    if (targets_.anova.enabled) {
+      l18_ = doe::paper_l18_design();
+      l18_rows_ = dynamics::rows_from_design(l18_, targets_.anova.fixed);
+    }
+  }
+
+  int residual_count() const {
+    return static_cast<int>(targets_.moves.size()) * 4 + (targets_.anova.enabled ? 20 : 0);
+  }
+
+  Machine machine_at(const double* log_values) const {
+    Machine m = start_;
+    for (std::size_t i = 0; i < free_.size(); ++i) {
+      m.parameters.*(free_[i]->field) = std::exp(log_values[i]);
+    }
+    return m;
+  }
+
+  /// Model values in residual order (µm for moves, % for shares). Throws on simulation failure.
+  std::vector<double> model_values(const double* log_values, int threads) const {
+    const Machine m = machine_at(log_values);
+    dynamics::DatasetOptions opts;
+    opts.threads = threads;
+    opts.simulation.integrator.relative_tolerance = 1e-9;
+    opts.simulation.trace_rate_hz = 200.0;
+    std::vector<io::DatasetRow> rows = targets_.moves;
+    rows.insert(rows.end(), l18_rows_.begin(), l18_rows_.end());
+    rows = dynamics::simulate_dataset(m, rows, opts);
+    std::vector<double> values;
+    for (std::size_t i = 0; i < targets_.moves.size(); ++i) {
+      const auto e = errors_of(rows[i], targets_.compare_magnitudes);
+      values.insert(values.end(), e.begin(), e.end());
+    }
+    if (targets_.anova.enabled) {
+      const std::size_t first = targets_.moves.size();
+      for (int p = 0; p < 4; ++p) {
+        std::vector<double> response;
+        for (std::size_t r = 0; r < l18_rows_.size(); ++r) {
+          response.push_back(errors_of(rows[first + r], true)[static_cast<std::size_t>(p)]);
+        }
+        const doe::AnovaTable t = doe::anova(l18_, response);
+        const double noise_var = options_.sigma_um[static_cast<std::size_t>(p)] *
+                                 options_.sigma_um[static_cast<std::size_t>(p)] /
+                                 targets_.anova.repeats;
+        std::array<double, 5> ss{};
+        double total = 0;
+        for (std::size_t f = 0; f < 4; ++f) {
+          ss[f] = t.factors[f].sum_of_squares + t.factors[f].dof * noise_var;
+          total += ss[f];
+        }
+        ss[4] = t.error.sum_of_squares + t.error.dof * noise_var;
+        total += ss[4];
+        for (double s : ss) values.push_back(100.0 * s / total);
+      }
+    }
+    return values;
+  }
+
+  std::vector<double> targets() const {
+    std::vector<double> v;
+    for (const io::DatasetRow& r : targets_.moves) {
+      const auto e = errors_of(r, targets_.compare_magnitudes);
+      v.insert(v.end(), e.begin(), e.end());
+    }
+    if (targets_.anova.enabled) {
+      for (const auto& row : targets_.anova.weight_pct) v.insert(v.end(), row.begin(), row.end());
+    }
+    return v;
+  }
+
+  std::vector<double> sigmas() const {
+    std::vector<double> v;
+    for (std::size_t i = 0; i < targets_.moves.size(); ++i) {
+      v.insert(v.end(), options_.sigma_um.begin(), options_.sigma_um.end());
+    }
+    if (targets_.anova.enabled) v.insert(v.end(), 20, targets_.anova.sigma_pct);
+    return v;
+  }
+
+  std::vector<std::string> names() const {
+    std::vector<std::string> v;
+    for (std::size_t i = 0; i < targets_.moves.size(); ++i) {
+      for (const char* p : kParamNames) {
+        v.push_back(fmt::format("move {} (Y {:g} mm) {}", i + 1, targets_.moves[i].y_mm, p));
+      }
+    }
+    if (targets_.anova.enabled) {
+      for (const char* p : kParamNames) {
+        for (const char* s : kSourceNames) v.push_back(fmt::format("ANOVA {} {} weight %", p, s));
+      }
+    }
+    return v;
+  }
+
+  const IdentificationOptions& options() const { return options_; }
+
+ private:
+  Machine start_;
+  IdentificationTargets targets_;
+  IdentificationOptions options_;
+  std::vector<const Info*> free_;
+  doe::Design l18_;
+  std::vector<io::DatasetRow> l18_rows_;
+};
+
+/// Residuals (model − target)/σ with a forward-difference Jacobian whose columns are simulated
+/// in parallel (one perturbed machine per task).
+class SimulationCost final : public ceres::CostFunction {
+ public:
+  SimulationCost(const Problem& problem, int parameter_count)
+      : problem_(problem),
+        targets_(problem.targets()),
+        sigmas_(problem.sigmas()),
+        n_(parameter_count) {
+    mutable_parameter_block_sizes()->push_back(parameter_count);
+    set_num_residuals(problem.residual_count());
+  }
+
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    const double* x = parameters[0];
+    const std::size_t m = targets_.size();
+    const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+    const int columns = want_jacobian ? n_ : 0;
+    std::vector<std::vector<double>> values(static_cast<std::size_t>(columns) + 1);
+    std::vector<char> good(values.size(), 0);
+    const double h = problem_.options().log_step;
+    auto task = [&](std::size_t k, int threads) {
+      std::vector<double> xk(x, x + n_);
+      if (k > 0) xk[k - 1] += h;
+      try {
+        values[k] = problem_.model_values(xk.data(), threads);
+        good[k] = 1;
+      } catch (const std::exception&) {
+        good[k] = 0;
+      }
+    };
+    if (columns == 0) {
+      task(0, problem_.options().threads);
+    } else {
+      const unsigned workers =
+          problem_.options().threads > 0 ? static_cast<unsigned>(problem_.options().threads)
+                                         : std::max(1u, std::thread::hardware_concurrency());
+      std::atomic<std::size_t> next{0};
+      std::vector<std::thread> pool;
+      for (unsigned w = 0; w < workers; ++w) {
+        pool.emplace_back([&]() {
+          for (std::size_t k = next++; k < values.size(); k = next++) task(k, 1);
+        });
+      }
+      for (std::thread& t : pool) t.join();
+    }
+    if (!std::all_of(good.begin(), good.end(), [](char g) { return g != 0; })) return false;
+    for (std::size_t i = 0; i < m; ++i) residuals[i] = (values[0][i] - targets_[i]) / sigmas_[i];
+    for (int j = 0; j < columns; ++j) {
+      for (std::size_t i = 0; i < m; ++i) {
+        jacobians[0][i * static_cast<std::size_t>(n_) + static_cast<std::size_t>(j)] =
+            (values[static_cast<std::size_t>(j) + 1][i] - values[0][i]) / (h * sigmas_[i]);
+      }
+    }
+    return true;
+  }
+
+ private:
+  const Problem& problem_;
+  std::vector<double> targets_, sigmas_;
+  int n_;
+};
+
+class ProgressCallback final : public ceres::IterationCallback {
+ public:
+  explicit ProgressCallback(const std::function<void(int, double)>& f) : f_(f) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (f_) f_(s.iteration, s.cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(int, double)>& f_;
+};
+
+}  // namespace
+
+bool IdentificationOptions::is_valid(std::string* why) const {
+  auto fail = [why](const char* msg) {
+    if (why != nullptr) *why = msg;
+    return false;
+  };
+  for (double s : sigma_um) {
+    if (!(s > 0.0 && std::isfinite(s))) return fail("sigma_um must be positive and finite");
+  }
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (threads < 0) return fail("threads must be >= 0");
+  if (!(log_step > 0.0 && log_step < 0.1)) return fail("log_step must be in (0, 0.1)");
+  return true;
+}
+
+IdentificationReport identify_machine(const Machine& start,
+                                      const IdentificationTargets& targets,
+                                      const IdentificationOptions& options) {
+  std::string why;
+  if (!options.is_valid(&why)) throw ConfigError("identification options: " + why);
+  if (targets.moves.empty() && !targets.anova.enabled) {
+    throw ConfigError("identification: no measured moves and no ANOVA targets");
+  }
+  if (targets.anova.enabled && targets.anova.repeats < 1) {
+    throw ConfigError("identification: ANOVA repeats must be >= 1");
+  }
+  if (!dynamics::is_physical(start.parameters, &why)) {
+    throw ConfigError("start machine: " + why);
+  }
+
+  std::vector<const Info*> free;
+  const auto& table = dynamics::machine_parameter_table();
+  if (options.free_parameters.empty()) {
+    for (const Info& info : table) {
+      if (info.identifiable) free.push_back(&info);
+    }
+  } else {
+    for (const std::string& name : options.free_parameters) {
+      const Info* found = nullptr;
+      for (const Info& info : table) {
+        if (name == std::string(info.section) + "." + info.key) found = &info;
+      }
+      if (found == nullptr) throw ConfigError("identification: unknown parameter '" + name + "'");
+      free.push_back(found);
+    }
+  }
+  std::vector<double> x;
+  IdentificationReport report;
+  for (const Info* info : free) {
+    const double v = start.parameters.*(info->field);
+    const std::string key = std::string(info->section) + "." + info->key;
+    if (!(v > 0.0)) {
+      throw ConfigError("identification: '" + key +
+                        "' is 0 in the start machine; give it a positive start value to fit it");
+    }
+    x.push_back(std::log(v));
+    report.free_parameters.push_back(key);
+    report.start_values.push_back(v);
+  }
+
+  const Problem problem(start, targets, options, free);
+  const int n = static_cast<int>(x.size());
+  ceres::Problem ceres_problem;
+  ceres_problem.AddResidualBlock(new SimulationCost(problem, n), nullptr, x.data());
+  for (int i = 0; i < n; ++i) {
+    const Info& info = *free[static_cast<std::size_t>(i)];
+    const double lo = info.min > 0.0 ? std::log(info.min) : x[static_cast<std::size_t>(i)] - 25.0;
+    ceres_problem.SetParameterLowerBound(x.data(), i, lo);
+    ceres_problem.SetParameterUpperBound(x.data(), i, std::log(info.max));
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = options.max_iterations;
+  solver.minimizer_progress_to_stdout = false;
+  solver.logging_type = ceres::SILENT;
+  ProgressCallback callback(options.progress);
+  solver.callbacks.push_back(&callback);
+  solver.update_state_every_iteration = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &ceres_problem, &summary);
+
+  report.fitted = problem.machine_at(x.data());
+  if (!report.fitted.description.empty()) report.fitted.description += "; ";
+  report.fitted.description += fmt::format("identified ({} parameters, cost {:.4g} -> {:.4g})", n,
+                                           summary.initial_cost, summary.final_cost);
+  for (int i = 0; i < n; ++i) report.fitted_values.push_back(std::exp(x[static_cast<std::size_t>(i)]));
+  report.initial_cost = summary.initial_cost;
+  report.final_cost = summary.final_cost;
+  report.iterations = static_cast<int>(summary.iterations.size());
+  report.termination = summary.message;
+  report.usable = summary.IsSolutionUsable();
+  const std::vector<double> model = problem.model_values(x.data(), options.threads);
+  const std::vector<double> target = problem.targets();
+  const std::vector<double> sigma = problem.sigmas();
+  const std::vector<std::string> names = problem.names();
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    report.residuals.push_back({names[i], target[i], model[i], (model[i] - target[i]) / sigma[i]});
+  }
+  return report;
+}
+
+AnovaTargets read_anova_targets(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot open ANOVA targets");
+  AnovaTargets t;
+  t.enabled = true;
+  std::string line;
+  int line_no = 0;
+  std::map<std::string, int> column;
+  std::array<bool, 5> seen{};
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (column.empty()) {
+      for (std::size_t i = 0; i < cells.size(); ++i) column[cells[i]] = static_cast<int>(i);
+      for (const char* c : {"factor", "mpe_weight_pct", "rpe_weight_pct", "mae_weight_pct",
+                            "rae_weight_pct"}) {
+        if (column.count(c) == 0) {
+          throw ConfigError(fmt::format("{}:{}: missing column '{}'", path, line_no, c));
+        }
+      }
+      continue;
+    }
+    const std::string factor = cells.at(static_cast<std::size_t>(column["factor"]));
+    int source = -1;
+    for (int s = 0; s < 5; ++s) {
+      if (factor == kSourceNames[s]) source = s;
+    }
+    if (source < 0) {
+      throw ConfigError(fmt::format("{}:{}: unknown factor '{}' (PV, PD, AV, AD, error)", path,
+                                    line_no, factor));
+    }
+    const char* cols[4] = {"mpe_weight_pct", "rpe_weight_pct", "mae_weight_pct",
+                           "rae_weight_pct"};
+    for (std::size_t p = 0; p < 4; ++p) {
+      const std::size_t c = static_cast<std::size_t>(column[cols[p]]);
+      try {
+        if (c >= cells.size()) throw std::invalid_argument("short row");
+        t.weight_pct[p][static_cast<std::size_t>(source)] = std::stod(cells[c]);
+      } catch (const std::exception&) {
+        throw ConfigError(fmt::format("{}:{}: column '{}' is not a number", path, line_no,
+                                      cols[p]));
+      }
+    }
+    seen[static_cast<std::size_t>(source)] = true;
+  }
+  for (int s = 0; s < 5; ++s) {
+    if (!seen[static_cast<std::size_t>(s)]) {
+      throw ConfigError(fmt::format("{}: no row for '{}'", path, kSourceNames[s]));
+    }
+  }
+  return t;
+}
+
+}  // namespace cmmcomp::training
