@@ -9,6 +9,7 @@
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
 #include <cmmcomp/dynamics/noise.hpp>
+#include <cmmcomp/dynamics/paper_check.hpp>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_anova.hpp>
 #include <cmmcomp/io/profile_report.hpp>
@@ -366,6 +367,34 @@ int run_identify(const IdentifyCommand& cmd) {
   return 0;
 }
 
+int run_paper(const std::string& machine_path, std::uint64_t seed, int seeds, bool check) {
+  const cmmcomp::dynamics::Machine machine = machine_from(machine_path);
+  std::printf("machine: %s (%s)\n\n", machine.name.c_str(), machine.description.c_str());
+  bool all = true;
+  for (int k = 0; k < seeds; ++k) {
+    const auto c = cmmcomp::dynamics::compare_with_paper(machine, seed + static_cast<unsigned>(k));
+    if (k == 0) std::fputs(cmmcomp::dynamics::format_paper_comparison(c).c_str(), stdout);
+    if (!c.all_passed()) {
+      all = false;
+      for (const auto& chk : c.checks) {
+        if (!chk.passed && k > 0) {
+          std::printf("seed %llu: FAIL %s: %s\n",
+                      static_cast<unsigned long long>(seed) + static_cast<unsigned>(k),
+                      chk.requirement.c_str(),
+                      chk.measured.c_str());
+        }
+      }
+    }
+  }
+  if (seeds > 1) {
+    std::printf("\n%d noise seeds from %llu: %s\n",
+                seeds,
+                static_cast<unsigned long long>(seed),
+                all ? "every requirement met for every seed" : "some requirements failed");
+  }
+  return check && !all ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -440,6 +469,19 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   identify->add_option("--threads", id.threads, "threads (0 = all cores)");
 
+  std::string paper_machine;
+  std::uint64_t paper_seed = 1;
+  int paper_seeds = 1;
+  bool paper_check = false;
+  CLI::App* paper =
+      app.add_subcommand("paper", "compare a machine with the paper's Tables 1, 2 and 4");
+  paper->add_option("--machine", paper_machine, "machine file (default: embedded)");
+  paper->add_option("--seed", paper_seed, "first noise seed")->capture_default_str();
+  paper->add_option("--seeds", paper_seeds, "noise seeds to check")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  paper->add_flag("--check", paper_check, "exit 1 when a requirement fails");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -451,6 +493,7 @@ int main(int argc, char** argv) {
     if (dataset->parsed()) return run_dataset(ds);
     if (anova->parsed()) return run_anova(anova_path, anova_json);
     if (identify->parsed()) return run_identify(id);
+    if (paper->parsed()) return run_paper(paper_machine, paper_seed, paper_seeds, paper_check);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cmmcomp-sim: %s\n", e.what());
     return 1;
