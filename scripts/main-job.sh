@@ -17,4 +17,9 @@ echo
 echo "== 1. The paper's baseline probing move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10) =="
 "$sim" profile --csv "$out/baseline_profile.csv"
 echo
+echo "== 2. The digital twin (embedded default machine) next to the paper's Tables 1, 2 and 4 =="
+"$sim" paper
+"$sim" move --trace "$out/baseline_trace.csv" >/dev/null
+"$sim" dataset --design l18 --repeats 3 --noise --seed 1 -o "$out/l18x3.csv"
+echo
 echo "main job done; outputs in $out"

@@ -469,6 +469,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   identify->add_option("--threads", id.threads, "threads (0 = all cores)");
 
+  std::string machine_in, machine_out;
+  CLI::App* machine_cmd = app.add_subcommand(
+      "machine", "print a machine file (default: the embedded one), to start your own from");
+  machine_cmd->add_option("--machine", machine_in, "machine file to check and re-print");
+  machine_cmd->add_option("-o,--output", machine_out, "write to this file instead of stdout");
+
   std::string paper_machine;
   std::uint64_t paper_seed = 1;
   int paper_seeds = 1;
@@ -493,6 +499,17 @@ int main(int argc, char** argv) {
     if (dataset->parsed()) return run_dataset(ds);
     if (anova->parsed()) return run_anova(anova_path, anova_json);
     if (identify->parsed()) return run_identify(id);
+    if (machine_cmd->parsed()) {
+      const std::string text = cmmcomp::dynamics::format_machine(machine_from(machine_in));
+      if (machine_out.empty()) {
+        std::fputs(text.c_str(), stdout);
+      } else {
+        std::ofstream out(machine_out);
+        out << text;
+        if (!out) throw cmmcomp::Error(machine_out + ": cannot write");
+      }
+      return 0;
+    }
     if (paper->parsed()) return run_paper(paper_machine, paper_seed, paper_seeds, paper_check);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cmmcomp-sim: %s\n", e.what());
