@@ -1,1 +1,286 @@
-// placeholder: written by the dynamics test pass
+// SPDX-License-Identifier: MIT
+/// @file The digital twin on the default machine: properties of a simulated move, never values.
+///
+/// The model and the default machine are being recalibrated, so nothing here hard-codes a
+/// simulated error: the tests check what must hold for any calibration (orderings, consistency
+/// of the trace with the result, determinism, convergence, error reporting).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cmmcomp/dynamics/bridge_model.hpp>
+#include <cmmcomp/error.hpp>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace cmmcomp::dynamics {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kBaselineY = 0.250;  // [m]
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+SimulationOptions traced() {
+  SimulationOptions o;
+  o.record_trace = true;
+  return o;
+}
+
+/// The traced baseline move at Y = 250 mm, simulated once for the tests that only read it.
+const SimulationResult& baseline_traced() {
+  static const SimulationResult result = [] {
+    BridgeSimulator sim(default_machine(), traced());
+    return sim.simulate(motion::baseline_move(), kBaselineY);
+  }();
+  return result;
+}
+
+void expect_same_errors(const errors::DynamicErrors& a, const errors::DynamicErrors& b) {
+  EXPECT_EQ(a.mpe, b.mpe);
+  EXPECT_EQ(a.rpe, b.rpe);
+  EXPECT_EQ(a.mae, b.mae);
+  EXPECT_EQ(a.rae, b.rae);
+}
+
+/// The message of the cmmcomp::Error `f` throws ("no error" if none).
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(BridgeSimulator, BaselineErrorsAreFiniteAndOrdered) {
+  const errors::DynamicErrors& e = baseline_traced().errors_um;
+  ASSERT_TRUE(std::isfinite(e.mpe) && std::isfinite(e.rpe) && std::isfinite(e.mae) &&
+              std::isfinite(e.rae));
+  EXPECT_GT(e.mpe, 0.0);
+  EXPECT_GE(e.mpe, std::fabs(e.rpe));  // RPE is one sample of the positioning phase
+  EXPECT_GE(e.mae, std::fabs(e.rae));  // RAE is the last sample of the approach
+  EXPECT_GE(e.mae, 0.0);
+}
+
+TEST(BridgeSimulator, ResultCarriesThePlannedInstants) {
+  motion::MoveProfile profile;
+  ASSERT_EQ(motion::MoveProfile::plan(motion::baseline_move(), profile), Status::kOk);
+  const motion::PhaseInstants& a = baseline_traced().instants;
+  const motion::PhaseInstants& b = profile.instants();
+  EXPECT_EQ(a.positioning_accel_end, b.positioning_accel_end);
+  EXPECT_EQ(a.positioning_end, b.positioning_end);
+  EXPECT_EQ(a.approach_accel_end, b.approach_accel_end);
+  EXPECT_EQ(a.touch, b.touch);
+}
+
+TEST(BridgeSimulator, TraceRunsFromZeroToTheTouchThroughEveryInstant) {
+  const SimulationResult& r = baseline_traced();
+  const auto& trace = r.trace;
+  ASSERT_GE(trace.size(), 10u);
+  EXPECT_EQ(trace.front().t_s, 0.0);
+  EXPECT_EQ(trace.back().t_s, r.instants.touch);
+  for (std::size_t i = 1; i < trace.size(); ++i) {
+    ASSERT_GT(trace[i].t_s, trace[i - 1].t_s) << "sample " << i;
+  }
+  // The trace rate is 1 kHz by default: no gap much longer than a millisecond.
+  for (std::size_t i = 1; i < trace.size(); ++i) {
+    ASSERT_LE(trace[i].t_s - trace[i - 1].t_s, 1e-3 * (1 + 1e-6)) << "sample " << i;
+  }
+  auto has_sample_at = [&trace](double t) {
+    return std::any_of(
+        trace.begin(), trace.end(), [t](const TraceSample& s) { return s.t_s == t; });
+  };
+  EXPECT_TRUE(has_sample_at(r.instants.positioning_accel_end));
+  EXPECT_TRUE(has_sample_at(r.instants.positioning_end));
+  EXPECT_TRUE(has_sample_at(r.instants.approach_accel_end));
+  EXPECT_TRUE(has_sample_at(r.instants.touch));
+}
+
+TEST(BridgeSimulator, TraceColumnsAreFiniteAndConsistent) {
+  const SimulationResult& r = baseline_traced();
+  const motion::ProbingMove m = motion::baseline_move();
+  for (std::size_t i = 0; i < r.trace.size(); ++i) {
+    const TraceSample& s = r.trace[i];
+    SCOPED_TRACE("sample " + std::to_string(i) + " t=" + std::to_string(s.t_s));
+    ASSERT_TRUE(std::isfinite(s.commanded_mm) && std::isfinite(s.scale_mm) &&
+                std::isfinite(s.tip_mm) && std::isfinite(s.error_um) &&
+                std::isfinite(s.velocity_mm_s) && std::isfinite(s.acceleration_mm_s2));
+    // The scale follows the command through the servo error: small next to the move.
+    ASSERT_LT(std::fabs(s.scale_mm - s.commanded_mm), 1.0);
+    // e = tip − scale (d = +1), µm vs mm.
+    ASSERT_NEAR(s.tip_mm - s.scale_mm, s.error_um / 1000.0, 1e-9);
+  }
+  // The command ends at the touch point PD + AD and starts at rest at 0.
+  const double travel_mm = (m.positioning_distance + m.approach_distance) * 1e3;
+  EXPECT_EQ(r.trace.front().commanded_mm, 0.0);
+  EXPECT_NEAR(r.trace.back().commanded_mm, travel_mm, 1e-9);
+}
+
+TEST(BridgeSimulator, ReExtractingFromTheTraceGivesTheResult) {
+  const SimulationResult& r = baseline_traced();
+  std::vector<double> t;
+  std::vector<double> e;
+  for (const TraceSample& s : r.trace) {
+    t.push_back(s.t_s);
+    e.push_back(s.error_um);
+  }
+  errors::DynamicErrors again;
+  ASSERT_EQ(errors::extract_dynamic_errors(
+                errors::TraceView{t.data(), e.data(), t.size()}, r.instants, +1, again),
+            Status::kOk);
+  EXPECT_NEAR(again.mpe, r.errors_um.mpe, 1e-9);
+  EXPECT_NEAR(again.rpe, r.errors_um.rpe, 1e-9);
+  EXPECT_NEAR(again.mae, r.errors_um.mae, 1e-9);
+  EXPECT_NEAR(again.rae, r.errors_um.rae, 1e-9);
+}
+
+TEST(BridgeSimulator, RecordingTheTraceDoesNotChangeTheResult) {
+  BridgeSimulator sim(default_machine());
+  const SimulationResult r = sim.simulate(motion::baseline_move(), kBaselineY);
+  EXPECT_TRUE(r.trace.empty());
+  expect_same_errors(r.errors_um, baseline_traced().errors_um);
+}
+
+TEST(BridgeSimulator, RepeatedAndInterleavedMovesGiveIdenticalResults) {
+  BridgeSimulator sim(default_machine());
+  const SimulationResult first = sim.simulate(motion::baseline_move(), kBaselineY);
+  motion::ProbingMove other = motion::baseline_move();
+  other.positioning_speed = 0.100;
+  other.approach_speed = 0.016;
+  other.positioning_distance = 0.080;
+  const SimulationResult between = sim.simulate(other, 1.0);
+  ASSERT_TRUE(std::isfinite(between.errors_um.mpe));
+  const SimulationResult again = sim.simulate(motion::baseline_move(), kBaselineY);
+  expect_same_errors(again.errors_um, first.errors_um);
+  EXPECT_EQ(again.stats.steps, first.stats.steps);
+  EXPECT_EQ(again.stats.rhs_evals, first.stats.rhs_evals);
+  // A fresh simulator agrees too: no state leaks between moves.
+  expect_same_errors(first.errors_um, baseline_traced().errors_um);
+}
+
+TEST(BridgeSimulator, TighterToleranceChangesEveryParameterByLessThanANanometre) {
+  SimulationOptions fine;
+  fine.integrator.relative_tolerance = 1e-10;
+  BridgeSimulator sim(default_machine(), fine);
+  const errors::DynamicErrors a = baseline_traced().errors_um;  // rtol 1e-8 (the default)
+  const errors::DynamicErrors b = sim.simulate(motion::baseline_move(), kBaselineY).errors_um;
+  EXPECT_NEAR(a.mpe, b.mpe, 1e-3);
+  EXPECT_NEAR(a.rpe, b.rpe, 1e-3);
+  EXPECT_NEAR(a.mae, b.mae, 1e-3);
+  EXPECT_NEAR(a.rae, b.rae, 1e-3);
+}
+
+TEST(BridgeSimulator, ErrorGrowsWithPositioningSpeed) {
+  BridgeSimulator sim(default_machine());
+  motion::ProbingMove fast = motion::baseline_move();
+  fast.positioning_speed = 0.100;
+  const double mpe_fast = sim.simulate(fast, kBaselineY).errors_um.mpe;
+  EXPECT_GT(mpe_fast, baseline_traced().errors_um.mpe);
+}
+
+TEST(BridgeSimulator, JerkLimitedMoveHasOrderedErrorsAndSamplesEveryInstant) {
+  motion::ProbingMove m = motion::baseline_move();
+  m.jerk = 2.0;
+  BridgeSimulator sim(default_machine(), traced());
+  const SimulationResult r = sim.simulate(m, kBaselineY);
+  const errors::DynamicErrors& e = r.errors_um;
+  ASSERT_TRUE(std::isfinite(e.mpe) && std::isfinite(e.rpe) && std::isfinite(e.mae) &&
+              std::isfinite(e.rae));
+  EXPECT_GT(e.mpe, 0.0);
+  EXPECT_GE(e.mpe, std::fabs(e.rpe));
+  EXPECT_GE(e.mae, std::fabs(e.rae));
+  ASSERT_FALSE(r.trace.empty());
+  EXPECT_EQ(r.trace.back().t_s, r.instants.touch);
+  for (const double t : {r.instants.positioning_accel_end, r.instants.positioning_end}) {
+    EXPECT_TRUE(std::any_of(
+        r.trace.begin(), r.trace.end(), [t](const TraceSample& s) { return s.t_s == t; }))
+        << "t=" << t;
+  }
+}
+
+TEST(BridgeSimulator, StatsCountTheWork) {
+  const IntegratorStats& s = baseline_traced().stats;
+  EXPECT_GT(s.steps, 0);
+  EXPECT_GE(s.rhs_evals, s.steps);
+  EXPECT_GT(s.root_evals, 0);
+}
+
+TEST(BridgeSimulator, InvalidMoveIsRejectedWithAMessage) {
+  BridgeSimulator sim(default_machine());
+  for (const double pv : {0.0, kNaN, -0.04}) {
+    motion::ProbingMove m = motion::baseline_move();
+    m.positioning_speed = pv;
+    const std::string msg = error_of([&] { sim.simulate(m, kBaselineY); });
+    EXPECT_TRUE(contains(msg, "move")) << "PV " << pv << ": " << msg;
+  }
+  motion::ProbingMove m = motion::baseline_move();
+  m.approach_distance = 0.0;
+  EXPECT_TRUE(contains(error_of([&] { sim.simulate(m, kBaselineY); }), "move"));
+}
+
+TEST(BridgeSimulator, CarriagePositionOutOfRangeIsRejectedWithAMessage) {
+  BridgeSimulator sim(default_machine());
+  for (const double y : {-0.001, 3.0, kNaN}) {
+    const std::string msg = error_of([&] { sim.simulate(motion::baseline_move(), y); });
+    EXPECT_TRUE(contains(msg, "carriage position Y")) << "Y " << y << ": " << msg;
+  }
+  // Both ends of the beam are allowed.
+  for (const double y : {0.0, 2.0}) {
+    EXPECT_TRUE(std::isfinite(sim.simulate(motion::baseline_move(), y).errors_um.mpe)) << y;
+  }
+  // The simulator stays usable after rejecting input.
+  expect_same_errors(sim.simulate(motion::baseline_move(), kBaselineY).errors_um,
+                     baseline_traced().errors_um);
+}
+
+TEST(BridgeSimulator, NonPhysicalMachineIsAConfigError) {
+  for (const auto& info : machine_parameter_table()) {
+    Machine m = default_machine();
+    m.parameters.*info.field = info.min - std::max(1.0, std::fabs(info.min));
+    const std::string key = std::string(info.section) + "." + info.key;
+    try {
+      BridgeSimulator sim(m);
+      ADD_FAILURE() << key << ": accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_TRUE(contains(e.what(), key)) << e.what();
+      EXPECT_TRUE(contains(e.what(), m.name)) << e.what();
+    }
+  }
+}
+
+TEST(BridgeSimulator, InvalidOptionsAreAConfigError) {
+  SimulationOptions o;
+  o.trace_rate_hz = 0.0;
+  EXPECT_FALSE(o.is_valid(nullptr));
+  EXPECT_THROW(BridgeSimulator(default_machine(), o), ConfigError);
+  o = SimulationOptions{};
+  o.integrator.relative_tolerance = -1.0;
+  std::string why;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_FALSE(why.empty());
+  EXPECT_THROW(BridgeSimulator(default_machine(), o), ConfigError);
+}
+
+TEST(BridgeSimulator, CvodeFailureIsAnErrorNamingTheFlag) {
+  SimulationOptions o;
+  o.integrator.max_steps = 1;
+  BridgeSimulator sim(default_machine(), o);
+  const std::string msg = error_of([&] { sim.simulate(motion::baseline_move(), kBaselineY); });
+  EXPECT_TRUE(contains(msg, "CVODE failed")) << msg;
+  EXPECT_TRUE(contains(msg, "CV_TOO_MUCH_WORK")) << msg;
+}
+
+TEST(BridgeSimulator, KeepsItsMachine) {
+  Machine m = default_machine();
+  m.name = "bench";
+  BridgeSimulator sim(m);
+  EXPECT_EQ(sim.machine().name, "bench");
+}
+
+}  // namespace
+}  // namespace cmmcomp::dynamics
