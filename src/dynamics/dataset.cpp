@@ -32,7 +32,9 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
   auto worker = [&]() {
     try {
       BridgeSimulator sim(machine, options.simulation);
-      for (std::size_t i = next++; i < total && !failed; i = next++) {
+      // Every row is simulated even after a failure, so the error reported is always the one of
+      // the first failing row, whatever the thread count.
+      for (std::size_t i = next++; i < total; i = next++) {
         io::DatasetRow& r = rows[i];
         const motion::ProbingMove move{r.pv_mm_s * 1e-3,
                                        r.pa_mm_s2 * 1e-3,

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/error.hpp>
@@ -256,8 +257,18 @@ Machine parse_machine(const std::string& text, const std::string& source) {
       continue;
     }
     const toml::table* section = node.as_table();
-    if (section == nullptr) {
-      throw ConfigError(where(node) + ": unknown key '" + k + "'");
+    const bool known_section = std::any_of(machine_parameter_table().begin(),
+                                           machine_parameter_table().end(),
+                                           [&k](const Info& info) { return k == info.section; });
+    if (section == nullptr) throw ConfigError(where(node) + ": unknown key '" + k + "'");
+    if (!known_section) {
+      // Name the first key when there is one (the likelier typo), else the section itself.
+      if (!section->empty()) {
+        const auto& [first_key, first_value] = *section->begin();
+        throw ConfigError(where(first_value) + ": unknown key '" + k + "." +
+                          std::string(first_key.str()) + "' (no section '" + k + "')");
+      }
+      throw ConfigError(where(node) + ": unknown section '" + k + "'");
     }
     for (auto&& [sub, value] : *section) {
       const std::string full = k + "." + std::string(sub.str());
@@ -314,8 +325,10 @@ std::string format_machine(const Machine& machine) {
       section = info.section;
       fmt::format_to(std::back_inserter(s), "\n[{}]\n", section);
     }
+    // "{}" writes the shortest text that reads back to the same double: fitted values
+    // round-trip exactly.
     fmt::format_to(std::back_inserter(s),
-                   "{} = {:.9g}  # {}\n",
+                   "{} = {}  # {}\n",
                    info.key,
                    machine.parameters.*info.field,
                    info.description);

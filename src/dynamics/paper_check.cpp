@@ -1,15 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @file The paper comparison behind the main job and the calibration test.
-#include <cmmcomp/dynamics/paper_check.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
+#include <cmmcomp/dynamics/paper_check.hpp>
 #include <cmmcomp/paper_reference.hpp>
-#include <fmt/format.h>
 
 namespace cmmcomp::dynamics {
 namespace {
@@ -66,7 +65,8 @@ PaperComparison compare_with_paper(const Machine& machine, std::uint64_t seed, i
   for (std::size_t p = 0; p < 4; ++p) {
     const char* name = paper::kParameters[p];
     c.checks.push_back({fmt::format("Table 2: {} at Y 500 >= 1.4x its Y 250 value", name),
-                        y500[p] >= 1.4 * base[p], fmt::format("{:.2f}x", y500[p] / base[p])});
+                        y500[p] >= 1.4 * base[p],
+                        fmt::format("{:.2f}x", y500[p] / base[p])});
   }
   for (std::size_t p = 0; p < 4; ++p) {
     const char* name = paper::kParameters[p];
@@ -84,7 +84,8 @@ PaperComparison compare_with_paper(const Machine& machine, std::uint64_t seed, i
     const doe::AnovaTable& t = table(c.anova, r.parameter);
     const int rank = rank_of(t, r.factor);
     c.checks.push_back(
-        {fmt::format("Table 4: {} {} for {}", r.factor,
+        {fmt::format("Table 4: {} {} for {}",
+                     r.factor,
                      r.max_rank == 0 ? "is the largest factor" : "ranks in the top two",
                      paper::kParameters[r.parameter]),
          rank <= r.max_rank,
@@ -93,7 +94,8 @@ PaperComparison compare_with_paper(const Machine& machine, std::uint64_t seed, i
   for (std::size_t p = 0; p < 4; ++p) {
     const double w = table(c.anova, p).error.weight_percent;
     c.checks.push_back({fmt::format("Table 4: error row below 25 % for {}", paper::kParameters[p]),
-                        w < 25.0, fmt::format("{:.1f} %", w)});
+                        w < 25.0,
+                        fmt::format("{:.1f} %", w)});
   }
   return c;
 }
@@ -101,10 +103,11 @@ PaperComparison compare_with_paper(const Machine& machine, std::uint64_t seed, i
 std::string format_paper_comparison(const PaperComparison& c) {
   std::string s;
   auto out = std::back_inserter(s);
-  fmt::format_to(out, "Baseline move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10 mm, mm/s, mm/s^2)"
-                      ", noiseless, vs the paper's Tables 1 and 2 [um]:\n");
-  fmt::format_to(out, "  {:<6} {:>14} {:>14} {:>14} {:>14}\n", "Y mm", "MPE", "|RPE|", "MAE",
-                 "|RAE|");
+  fmt::format_to(out,
+                 "Baseline move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10 mm, mm/s, mm/s^2)"
+                 ", noiseless, vs the paper's Tables 1 and 2 [um]:\n");
+  fmt::format_to(
+      out, "  {:<6} {:>14} {:>14} {:>14} {:>14}\n", "Y mm", "MPE", "|RPE|", "MAE", "|RAE|");
   for (std::size_t i = 0; i < 3; ++i) {
     const auto m = magnitudes(c.by_y[i]);
     fmt::format_to(out, "  {:<6g}", paper::kTable2Y_mm[i]);
@@ -114,15 +117,17 @@ std::string format_paper_comparison(const PaperComparison& c) {
     }
     fmt::format_to(out, "\n");
   }
-  fmt::format_to(out, "  (model (paper)); signed at Y 250: RPE {:+.2f}, RAE {:+.2f} um "
-                      "(+ = tip ahead of the scale)\n\n",
-                 c.by_y[1].rpe, c.by_y[1].rae);
+  fmt::format_to(out,
+                 "  (model (paper)); signed at Y 250: RPE {:+.2f}, RAE {:+.2f} um "
+                 "(+ = tip ahead of the scale)\n\n",
+                 c.by_y[1].rpe,
+                 c.by_y[1].rae);
   fmt::format_to(out,
                  "ANOVA of the L18 x 3 experiment ({} samples, Table 1 noise), weight % "
                  "model (paper):\n",
                  c.anova.samples);
-  fmt::format_to(out, "  {:<6} {:>15} {:>15} {:>15} {:>15}\n", "factor", "MPE", "|RPE|", "MAE",
-                 "|RAE|");
+  fmt::format_to(
+      out, "  {:<6} {:>15} {:>15} {:>15} {:>15}\n", "factor", "MPE", "|RPE|", "MAE", "|RAE|");
   for (std::size_t f = 0; f < 5; ++f) {
     fmt::format_to(out, "  {:<6}", paper::kAnovaSources[f]);
     for (std::size_t p = 0; p < 4; ++p) {
@@ -135,8 +140,8 @@ std::string format_paper_comparison(const PaperComparison& c) {
   }
   fmt::format_to(out, "\nCalibration requirements:\n");
   for (const PaperCheck& k : c.checks) {
-    fmt::format_to(out, "  [{}] {:<52} {}\n", k.passed ? "pass" : "FAIL", k.requirement,
-                   k.measured);
+    fmt::format_to(
+        out, "  [{}] {:<52} {}\n", k.passed ? "pass" : "FAIL", k.requirement, k.measured);
   }
   return s;
 }

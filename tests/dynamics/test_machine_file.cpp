@@ -354,5 +354,26 @@ TEST(MachineFile, IsPhysicalNamesTheOffendingKey) {
   }
 }
 
+// An unknown section is an error even without keys.
+TEST(MachineFile, UnknownEmptySectionIsRejected) {
+  std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+  lines.push_back("[turbo]");
+  const std::string msg = error_of(join_lines(lines));
+  EXPECT_TRUE(contains(msg, at_line(static_cast<int>(lines.size())))) << msg;
+  EXPECT_TRUE(contains(msg, "unknown section 'turbo'")) << msg;
+}
+
+// Fitted machines carry full-precision values: they must survive format -> parse exactly.
+TEST(MachineFile, RoundTripKeepsFullPrecision) {
+  Machine m = default_machine();
+  for (const Info& info : machine_parameter_table()) {
+    m.parameters.*info.field = info.min + (info.max - info.min) / 3.0;
+  }
+  const Machine back = parse_machine(format_machine(m), kSource);
+  for (const Info& info : machine_parameter_table()) {
+    EXPECT_EQ(back.parameters.*info.field, m.parameters.*info.field) << full_key(info);
+  }
+}
+
 }  // namespace
 }  // namespace cmmcomp::dynamics

@@ -24,7 +24,7 @@ struct IntegratorOptions {
   bool is_valid(std::string* why) const;
 };
 
-/// Work counters since construction (for benchmarks and reports).
+/// Work counters since the last reset() (CVODE restarts them on re-initialisation).
 struct IntegratorStats {
   long steps = 0;       ///< internal steps
   long rhs_evals = 0;   ///< right-hand-side evaluations (incl. those for Jacobians)

@@ -3,13 +3,12 @@
 #pragma once
 
 #include <array>
-#include <cstdint>
-#include <string>
-#include <vector>
-
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/errors/dynamic_errors.hpp>
 #include <cmmcomp/io/dataset_anova.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
 
 namespace cmmcomp::dynamics {
 
