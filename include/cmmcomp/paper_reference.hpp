@@ -19,8 +19,8 @@ inline constexpr std::array<double, 4> kTable1Std = {1.321, 0.461, 0.612, 0.304}
 /// Table 2: the baseline move with the carriage at Y = 0, 250, 500 mm [µm]; [y][parameter].
 inline constexpr std::array<double, 3> kTable2Y_mm = {0.0, 250.0, 500.0};
 inline constexpr std::array<std::array<double, 4>, 3> kTable2 = {{{11.957, 5.137, 7.473, 4.272},
-                                                                   {13.622, 5.861, 7.544, 3.928},
-                                                                   {22.619, 10.291, 12.196, 7.543}}};
+                                                                  {13.622, 5.861, 7.544, 3.928},
+                                                                  {22.619, 10.291, 12.196, 7.543}}};
 
 /// Table 4: ANOVA weights [%] on the L18 × 3 experiment; [parameter][PV, PD, AV, AD, error].
 inline constexpr std::array<const char*, 5> kAnovaSources = {"PV", "PD", "AV", "AD", "error"};

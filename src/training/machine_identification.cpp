@@ -1,19 +1,18 @@
 // SPDX-License-Identifier: MIT
 /// @file Machine identification with Ceres (Levenberg–Marquardt, finite-difference Jacobian).
-#include <cmmcomp/training/machine_identification.hpp>
+#include <ceres/ceres.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cmmcomp/doe/anova.hpp>
+#include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/training/machine_identification.hpp>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <thread>
-
-#include <ceres/ceres.h>
-#include <cmmcomp/doe/anova.hpp>
-#include <cmmcomp/doe/designs.hpp>
-#include <cmmcomp/error.hpp>
-#include <fmt/format.h>
 
 namespace cmmcomp::training {
 namespace {
@@ -26,7 +25,9 @@ constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
 constexpr const char* kSourceNames[5] = {"PV", "PD", "AV", "AD", "error"};
 
 std::array<double, 4> errors_of(const io::DatasetRow& r, bool magnitudes) {
-  return {r.mpe_um, magnitudes ? std::fabs(r.rpe_um) : r.rpe_um, r.mae_um,
+  return {r.mpe_um,
+          magnitudes ? std::fabs(r.rpe_um) : r.rpe_um,
+          r.mae_um,
           magnitudes ? std::fabs(r.rae_um) : r.rae_um};
 }
 
@@ -179,9 +180,9 @@ class SimulationCost final : public ceres::CostFunction {
     if (columns == 0) {
       task(0, problem_.options().threads);
     } else {
-      const unsigned workers =
-          problem_.options().threads > 0 ? static_cast<unsigned>(problem_.options().threads)
-                                         : std::max(1u, std::thread::hardware_concurrency());
+      const unsigned workers = problem_.options().threads > 0
+                                   ? static_cast<unsigned>(problem_.options().threads)
+                                   : std::max(1u, std::thread::hardware_concurrency());
       std::atomic<std::size_t> next{0};
       std::vector<std::thread> pool;
       for (unsigned w = 0; w < workers; ++w) {
@@ -304,9 +305,12 @@ IdentificationReport identify_machine(const Machine& start,
 
   report.fitted = problem.machine_at(x.data());
   if (!report.fitted.description.empty()) report.fitted.description += "; ";
-  report.fitted.description += fmt::format("identified ({} parameters, cost {:.4g} -> {:.4g})", n,
-                                           summary.initial_cost, summary.final_cost);
-  for (int i = 0; i < n; ++i) report.fitted_values.push_back(std::exp(x[static_cast<std::size_t>(i)]));
+  report.fitted.description += fmt::format("identified ({} parameters, cost {:.4g} -> {:.4g})",
+                                           n,
+                                           summary.initial_cost,
+                                           summary.final_cost);
+  for (int i = 0; i < n; ++i)
+    report.fitted_values.push_back(std::exp(x[static_cast<std::size_t>(i)]));
   report.initial_cost = summary.initial_cost;
   report.final_cost = summary.final_cost;
   report.iterations = static_cast<int>(summary.iterations.size());
@@ -341,8 +345,8 @@ AnovaTargets read_anova_targets(const std::string& path) {
     while (std::getline(ss, cell, ',')) cells.push_back(cell);
     if (column.empty()) {
       for (std::size_t i = 0; i < cells.size(); ++i) column[cells[i]] = static_cast<int>(i);
-      for (const char* c : {"factor", "mpe_weight_pct", "rpe_weight_pct", "mae_weight_pct",
-                            "rae_weight_pct"}) {
+      for (const char* c :
+           {"factor", "mpe_weight_pct", "rpe_weight_pct", "mae_weight_pct", "rae_weight_pct"}) {
         if (column.count(c) == 0) {
           throw ConfigError(fmt::format("{}:{}: missing column '{}'", path, line_no, c));
         }
@@ -355,19 +359,18 @@ AnovaTargets read_anova_targets(const std::string& path) {
       if (factor == kSourceNames[s]) source = s;
     }
     if (source < 0) {
-      throw ConfigError(fmt::format("{}:{}: unknown factor '{}' (PV, PD, AV, AD, error)", path,
-                                    line_no, factor));
+      throw ConfigError(
+          fmt::format("{}:{}: unknown factor '{}' (PV, PD, AV, AD, error)", path, line_no, factor));
     }
-    const char* cols[4] = {"mpe_weight_pct", "rpe_weight_pct", "mae_weight_pct",
-                           "rae_weight_pct"};
+    const char* cols[4] = {"mpe_weight_pct", "rpe_weight_pct", "mae_weight_pct", "rae_weight_pct"};
     for (std::size_t p = 0; p < 4; ++p) {
       const std::size_t c = static_cast<std::size_t>(column[cols[p]]);
       try {
         if (c >= cells.size()) throw std::invalid_argument("short row");
         t.weight_pct[p][static_cast<std::size_t>(source)] = std::stod(cells[c]);
       } catch (const std::exception&) {
-        throw ConfigError(fmt::format("{}:{}: column '{}' is not a number", path, line_no,
-                                      cols[p]));
+        throw ConfigError(
+            fmt::format("{}:{}: column '{}' is not a number", path, line_no, cols[p]));
       }
     }
     seen[static_cast<std::size_t>(source)] = true;

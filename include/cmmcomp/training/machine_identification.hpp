@@ -9,13 +9,12 @@
 #pragma once
 
 #include <array>
-#include <functional>
-#include <string>
-#include <vector>
-
 #include <cmmcomp/dynamics/dataset.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <functional>
+#include <string>
+#include <vector>
 
 namespace cmmcomp::training {
 
@@ -28,7 +27,7 @@ struct AnovaTargets {
   std::array<std::array<double, 5>, 4> weight_pct{};  ///< [parameter][PV, PD, AV, AD, error]
   int repeats = 3;                                    ///< repeats per run in the experiment
   dynamics::FixedSettings fixed{};                    ///< PA, AA, Y of the experiment
-  double sigma_pct = 3.0;  ///< share residual scale [percentage points]
+  double sigma_pct = 3.0;                             ///< share residual scale [percentage points]
 };
 
 /// What to fit.
@@ -45,9 +44,9 @@ struct IdentificationOptions {
   std::vector<std::string> free_parameters;
   /// Residual scale per parameter [µm]; defaults: the paper's Table 1 standard deviations.
   std::array<double, 4> sigma_um{1.321, 0.461, 0.612, 0.304};
-  int max_iterations = 50;    ///< Levenberg–Marquardt iterations
-  int threads = 0;            ///< simulation threads (0 = all cores)
-  double log_step = 1e-4;     ///< finite-difference step in log(parameter)
+  int max_iterations = 50;  ///< Levenberg–Marquardt iterations
+  int threads = 0;          ///< simulation threads (0 = all cores)
+  double log_step = 1e-4;   ///< finite-difference step in log(parameter)
   /// Called after each iteration: (iteration, cost).
   std::function<void(int, double)> progress;
 
@@ -56,15 +55,15 @@ struct IdentificationOptions {
 
 /// One residual of the fit, for the report.
 struct IdentificationResidual {
-  std::string name;      ///< e.g. "move 2 (Y 500 mm) MAE" or "ANOVA RAE AD weight"
-  double target = 0;     ///< measured value [µm] or share [%]
-  double fitted = 0;     ///< model value at the end
+  std::string name;       ///< e.g. "move 2 (Y 500 mm) MAE" or "ANOVA RAE AD weight"
+  double target = 0;      ///< measured value [µm] or share [%]
+  double fitted = 0;      ///< model value at the end
   double normalized = 0;  ///< (fitted − target) / σ
 };
 
 /// The outcome.
 struct IdentificationReport {
-  dynamics::Machine fitted;              ///< the start machine with the free parameters fitted
+  dynamics::Machine fitted;  ///< the start machine with the free parameters fitted
   std::vector<std::string> free_parameters;
   std::vector<double> start_values, fitted_values;  ///< of the free parameters, SI
   double initial_cost = 0, final_cost = 0;          ///< ½ Σ normalized²
