@@ -8,12 +8,13 @@ namespace cmmcomp {
 
 /// Result of an RT-path call. Non-negative values mean the output is valid.
 enum class [[nodiscard]] Status : std::int32_t{
-    kOk = 0,                   ///< computed; output valid
-    kOutsideDomain = 1,        ///< computed under the domain policy; flagged to the controller
-    kInvalidInput = -100,      ///< NaN, inf, non-positive or out-of-range parameter
-    kNoModel = -101,           ///< no model published for this axis
-    kTraceTooShort = -102,     ///< a trace does not cover the instants asked for
-    kIntegratorFailed = -200,  ///< the ODE integrator reported a failure (offline twin)
+    kOk = 0,                        ///< computed; output valid
+    kOutsideDomain = 1,             ///< computed under the domain policy; flagged to the controller
+    kInvalidInput = -100,           ///< NaN, inf, non-positive or out-of-range parameter
+    kNoModel = -101,                ///< no model published for this axis
+    kTraceTooShort = -102,          ///< a trace does not cover the instants asked for
+    kOutsideDomainRejected = -103,  ///< outside the training domain; the policy rejects it
+    kIntegratorFailed = -200,       ///< the ODE integrator reported a failure (offline twin)
 };
 
 /// True when `s` means the output is valid. RT-safe.
@@ -32,6 +33,8 @@ constexpr const char* to_string(Status s) noexcept {
       return "no model published";
     case Status::kTraceTooShort:
       return "trace does not cover the move's phase instants";
+    case Status::kOutsideDomainRejected:
+      return "outside the training domain (rejected by policy)";
     case Status::kIntegratorFailed:
       return "ODE integrator failed";
   }

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+/// @file Gaussian membership functions and input normalisation of the T-S network (layer 2).
+///
+/// Everything here is templated on `Scalar` and uses only operations `ceres::Jet` supports
+/// (`exp`, `+ - * /`, comparisons), so training differentiates the very code the RT path runs.
+/// No Ceres header is included: `exp` is found by argument-dependent lookup for Jet.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+namespace cmmcomp::fuzzy {
+
+/// Training range of one input: the model maps [lo, hi] onto [0, 1]. SI units of that input.
+struct InputRange {
+  double lo = 0.0;  ///< lower end of the training range
+  double hi = 1.0;  ///< upper end of the training range; must be > lo
+};
+
+/// Normalised input (x − lo)/(hi − lo): 0 at `lo`, 1 at `hi`, linear beyond. RT-safe.
+/// Precondition: lo < hi, both finite (checked by `validate` at model publication).
+constexpr double normalise(double x, const InputRange& range) noexcept {
+  return (x - range.lo) / (range.hi - range.lo);
+}
+
+/// Normalised distances |x − c|/σ are saturated at this value before squaring, so that the
+/// exponent −d² stays finite in float, double and Jet (1e36 < FLT_MAX) even for absurd inputs
+/// or widths. Where it applies the membership is exp(−1e36) = 0 in every type anyway.
+inline constexpr double kMaxNormalisedDistance = 1e18;
+
+namespace detail {
+
+/// max(a, b) for any Scalar with `<` (std::max is not used: it does not exist for Jet).
+template <typename Scalar>
+constexpr const Scalar& max_of(const Scalar& a, const Scalar& b) noexcept {
+  return a < b ? b : a;
+}
+
+/// min(a, b) for any Scalar with `<`.
+template <typename Scalar>
+constexpr const Scalar& min_of(const Scalar& a, const Scalar& b) noexcept {
+  return b < a ? b : a;
+}
+
+/// `v` limited to [lo, hi] (lo <= hi). For Jet the derivative is zero where it clamps.
+template <typename Scalar>
+constexpr Scalar clamp_of(const Scalar& v, const Scalar& lo, const Scalar& hi) noexcept {
+  return min_of(max_of(v, lo), hi);
+}
+
+}  // namespace detail
+
+/// Exponent of the Gaussian membership, −((x − c)/σ)², with |x − c|/σ saturated at
+/// kMaxNormalisedDistance (finite for any finite or infinite x and any σ > 0). RT-safe.
+template <typename Scalar>
+Scalar gaussian_exponent(const Scalar& x, const Scalar& centre, const Scalar& width) noexcept {
+  const Scalar bound = static_cast<Scalar>(kMaxNormalisedDistance);
+  const Scalar d = detail::clamp_of(Scalar((x - centre) / width), Scalar(-bound), bound);
+  return -(d * d);
+}
+
+/// Gaussian membership μ = exp(−(x − c)²/σ²) (Wei et al. 2019, §4, layer 2). RT-safe.
+/// Precondition: σ > 0. The evaluator does not call this directly; it uses
+/// `shifted_memberships`, which differs from it by one constant factor per input.
+template <typename Scalar>
+Scalar gaussian_membership(const Scalar& x, const Scalar& centre, const Scalar& width) noexcept {
+  using std::exp;
+  return exp(gaussian_exponent(x, centre, width));
+}
+
+/// Memberships of one input in its `kSets` sets, each divided by the largest of them:
+/// out[s] = exp(e_s − max_t e_t) with e_s = −((x − c_s)/σ_s)². The best set gets exactly 1 and
+/// every value is in [0, 1], never NaN, even when every plain membership underflows to 0 (an
+/// input far outside the sets). The common factor cancels in the normalised firing strengths,
+/// because the rule product is separable: scaling all memberships of input i by k_i scales
+/// every α_j by Π_i k_i. RT-safe. Preconditions: σ_s > 0; `centres`, `widths` and `out` hold
+/// kSets values.
+template <typename Scalar, int kSets>
+void shifted_memberships(const Scalar& x,
+                         const Scalar* centres,
+                         const Scalar* widths,
+                         Scalar* out) noexcept {
+  static_assert(kSets > 0, "at least one set per input");
+  using std::exp;
+  std::array<Scalar, kSets> e;
+  for (int s = 0; s < kSets; ++s) e[s] = gaussian_exponent(x, centres[s], widths[s]);
+  Scalar top = e[0];
+  for (int s = 1; s < kSets; ++s) top = detail::max_of(top, e[s]);
+  for (int s = 0; s < kSets; ++s) out[s] = exp(Scalar(e[s] - top));
+}
+
+}  // namespace cmmcomp::fuzzy
