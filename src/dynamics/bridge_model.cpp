@@ -2,6 +2,7 @@
 /// @file The bridge/carriage dynamics model and its per-move simulation.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cmmcomp/dynamics/bridge_model.hpp>
@@ -15,6 +16,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxCarriageY = 2.0;  // [m]
 
 // State layout (docs/machine-model.md). Deflections are lags: positive = behind the drive.
+constexpr int kLoads = MachineParameters::kDragLoads;
 enum : int {
   kServoError = 0,  // ε = x_scale − x_commanded [m]
   kServoRate,
@@ -22,21 +24,17 @@ enum : int {
   kYawRate,
   kCarriage,  // q: carriage/ram lateral lag at Y [m]
   kCarriageRate,
-  kChain,  // u: cable-chain lag [m]
-  kChainRate,
-  kHose,  // w: hose lag [m]
-  kHoseRate,
-  kStates
+  kFirstLoad,  // u_k, u̇_k: drag-load coordinates [m], k = 0..2
+  kStates = kFirstLoad + 2 * kLoads
 };
 static_assert(kStates == kBridgeStateCount);
 
 /// Coefficients that depend only on the machine and Y, computed once per move.
 struct Coefficients {
   double omega2 = 0, two_zeta_omega = 0, ff_deficit = 0, inv_mass = 0, bearing_drag = 0;
-  double yaw_inertia = 0, yaw_moment = 0, yaw_k = 0, yaw_c = 0, arm_idle = 0, arm_hose = 0;
+  double yaw_inertia = 0, yaw_moment = 0, yaw_k = 0, yaw_c = 0, load_arm = 0;
   double mc = 0, cq = 0, kq = 0;
-  double mk = 0, kk = 0, ck = 0, dk1 = 0, dk3 = 0;
-  double mw = 0, kw = 0, cw = 0, dw1 = 0, dw3 = 0;
+  std::array<MachineParameters::DragLoad, kLoads> load{};
   double tip_arm = 0;  // lever from the scale to the tip [m]
 };
 
@@ -52,24 +50,38 @@ Coefficients coefficients(const MachineParameters& p, double y) {
   c.yaw_moment = p.yaw_static_moment_kgm + p.carriage_mass_kg * y;
   c.yaw_k = p.yaw_stiffness_Nm_per_rad;
   c.yaw_c = p.yaw_damping_Nms_per_rad;
-  c.arm_idle = p.idle_leg_arm_m;
-  c.arm_hose = y;
+  c.load_arm = y;  // the loads pull at the carriage
   c.mc = p.carriage_mass_kg;
   c.cq = p.carriage_damping_Ns_per_m;
   // Cantilever from the drive leg: compliance = base + Y³ / (3 EI).
   c.kq = 1.0 / (p.beam_base_compliance_m_per_N + y * y * y / (3.0 * p.beam_bending_EI_Nm2));
-  c.mk = p.chain_mass_kg;
-  c.kk = p.chain_stiffness_N_per_m;
-  c.ck = p.chain_damping_Ns_per_m;
-  c.dk1 = p.chain_drag_linear_Ns_per_m;
-  c.dk3 = p.chain_drag_cubic_Ns3_per_m3;
-  c.mw = p.hose_mass_kg;
-  c.kw = p.hose_stiffness_N_per_m;
-  c.cw = p.hose_damping_Ns_per_m;
-  c.dw1 = p.hose_drag_linear_Ns_per_m;
-  c.dw3 = p.hose_drag_cubic_Ns3_per_m3;
+  for (int k = 0; k < kLoads; ++k) c.load[static_cast<std::size_t>(k)] = p.load[k];
   c.tip_arm = y + p.scale_offset_m;
   return c;
+}
+
+/// Per-state absolute tolerances such that each state's share of the tip error stays below
+/// `error_tol` [m]: states with a small lever on the tip may be integrated more loosely.
+std::array<double, kStates> state_tolerances(const Coefficients& c, double error_tol) {
+  std::array<double, kStates> a{};
+  const double compliance = 1.0 / c.kq;
+  const double omega_servo = std::sqrt(c.omega2);
+  const double servo_gain = (compliance * c.mc + c.tip_arm * c.yaw_moment / c.yaw_k) * c.omega2;
+  a[kServoError] = error_tol / servo_gain;
+  a[kServoRate] = a[kServoError] * omega_servo;
+  a[kYaw] = error_tol / std::max(c.tip_arm, 1e-3);
+  a[kYawRate] = a[kYaw] * std::sqrt(c.yaw_k / c.yaw_inertia);
+  a[kCarriage] = error_tol;
+  a[kCarriageRate] = error_tol * std::sqrt(c.kq / c.mc);
+  for (int k = 0; k < kLoads; ++k) {
+    const auto& l = c.load[static_cast<std::size_t>(k)];
+    const int i = kFirstLoad + 2 * k;
+    a[static_cast<std::size_t>(i)] = error_tol / (compliance * l.stiffness_N_per_m);
+    a[static_cast<std::size_t>(i + 1)] =
+        std::min(error_tol / (compliance * l.damping_Ns_per_m),
+                 a[static_cast<std::size_t>(i)] * std::sqrt(l.stiffness_N_per_m / l.mass_kg));
+  }
+  return a;
 }
 
 /// What the right-hand side needs: the coefficients and the commanded segment in force.
@@ -78,37 +90,42 @@ struct Forcing {
   motion::Segment segment;
 };
 
-/// Drive acceleration and every state derivative. Returns the drive acceleration a_s.
+/// Every state derivative. Returns the drive acceleration a_s.
 double derivatives(const Coefficients& c,
                    const motion::MotionState& cmd,
                    const double* y,
                    double* dy) noexcept {
   const double v = cmd.velocity + y[kServoRate];  // drive velocity
-  const double chain_pull = c.kk * y[kChain] + c.ck * y[kChainRate];
-  const double hose_pull = c.kw * y[kHose] + c.cw * y[kHoseRate];
+  double pull = 0.0;                              // the loads' pull on the carriage [N]
+  for (int k = 0; k < kLoads; ++k) {
+    const auto& l = c.load[static_cast<std::size_t>(k)];
+    pull += l.stiffness_N_per_m * y[kFirstLoad + 2 * k] +
+            l.damping_Ns_per_m * y[kFirstLoad + 2 * k + 1];
+  }
   // Servo: PD loop with feed-forward; every force on the bridge disturbs it.
   const double eps_dd = -c.ff_deficit * cmd.acceleration - c.omega2 * y[kServoError] -
-                        c.two_zeta_omega * y[kServoRate] -
-                        (chain_pull + hose_pull + c.bearing_drag * v) * c.inv_mass;
+                        c.two_zeta_omega * y[kServoRate] - (pull + c.bearing_drag * v) * c.inv_mass;
   const double a = cmd.acceleration + eps_dd;  // drive acceleration
   dy[kServoError] = y[kServoRate];
   dy[kServoRate] = eps_dd;
-  // Appendages: base-excited by the bridge, dragged by the floor/trough.
+  // Drag loads: base-excited by the bridge, driven by a drag force that grows with speed.
   const double v3 = v * v * v;
-  dy[kChain] = y[kChainRate];
-  dy[kChainRate] =
-      (c.mk * a + c.dk1 * v + c.dk3 * v3 - c.ck * y[kChainRate] - c.kk * y[kChain]) / c.mk;
-  dy[kHose] = y[kHoseRate];
-  dy[kHoseRate] =
-      (c.mw * a + c.dw1 * v + c.dw3 * v3 - c.cw * y[kHoseRate] - c.kw * y[kHose]) / c.mw;
-  // Bridge yaw about the drive leg: inertia plus the appendages' pull at their arms.
+  for (int k = 0; k < kLoads; ++k) {
+    const auto& l = c.load[static_cast<std::size_t>(k)];
+    const int i = kFirstLoad + 2 * k;
+    dy[i] = y[i + 1];
+    dy[i + 1] = (l.mass_kg * a + l.drag_linear_Ns_per_m * v + l.drag_cubic_Ns3_per_m3 * v3 -
+                 l.damping_Ns_per_m * y[i + 1] - l.stiffness_N_per_m * y[i]) /
+                l.mass_kg;
+  }
+  // Bridge yaw about the drive leg: inertia plus the loads' pull at the carriage.
   dy[kYaw] = y[kYawRate];
-  dy[kYawRate] = (c.yaw_moment * a + c.arm_idle * chain_pull + c.arm_hose * hose_pull -
-                  c.yaw_c * y[kYawRate] - c.yaw_k * y[kYaw]) /
-                 c.yaw_inertia;
-  // Carriage and ram on the beam: inertia plus the hose pull.
+  dy[kYawRate] =
+      (c.yaw_moment * a + c.load_arm * pull - c.yaw_c * y[kYawRate] - c.yaw_k * y[kYaw]) /
+      c.yaw_inertia;
+  // Carriage and ram on the beam: inertia plus the loads' pull.
   dy[kCarriage] = y[kCarriageRate];
-  dy[kCarriageRate] = (c.mc * a + hose_pull - c.cq * y[kCarriageRate] - c.kq * y[kCarriage]) / c.mc;
+  dy[kCarriageRate] = (c.mc * a + pull - c.cq * y[kCarriageRate] - c.kq * y[kCarriage]) / c.mc;
   return a;
 }
 
@@ -186,6 +203,11 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
   Impl& m = *impl_;
   m.forcing.c = coefficients(m.machine.parameters, carriage_y_m);
   const Coefficients& c = m.forcing.c;
+  const std::array<double, kStates> atol =
+      state_tolerances(c, m.options.integrator.absolute_tolerance);
+  if (!ok(m.integrator.set_absolute_tolerances(atol.data()))) {
+    throw Error("CVODE rejected the state tolerances (non-physical machine?)");
+  }
 
   SimulationResult result;
   result.instants = profile.instants();
@@ -226,12 +248,14 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
                               seg.start_time,
                               m.integrator.last_flag_name()));
     }
-    // Output grid: multiples of dt inside the segment, then the segment end (a kink).
+    // Output grid (only for a recorded trace): multiples of dt inside the segment. The
+    // parameters need no grid: the kinks are the phase instants and the root function stops
+    // at every extremum of the error.
     double next = (std::floor(seg.start_time / dt + 1e-6) + 1.0) * dt;
     if (next <= seg.start_time + 1e-6 * dt) next += dt;
     double t = seg.start_time;
     while (t < t_end) {
-      const double target = next < t_end ? next : t_end;
+      const double target = (m.options.record_trace && next < t_end) ? next : t_end;
       bool root = false;
       double reached = t;
       if (!ok(m.integrator.advance_to(target, y.data(), &reached, &root))) {

@@ -34,6 +34,8 @@ bool IntegratorOptions::is_valid(std::string* why) const {
 struct Integrator::Impl {
   SUNContext context = nullptr;
   N_Vector y = nullptr;
+  N_Vector atol = nullptr;
+  double rtol = 0.0;
   SUNMatrix matrix = nullptr;
   SUNLinearSolver solver = nullptr;
   void* cvode = nullptr;
@@ -50,6 +52,7 @@ struct Integrator::Impl {
     if (solver != nullptr) SUNLinSolFree(solver);
     if (matrix != nullptr) SUNMatDestroy(matrix);
     if (y != nullptr) N_VDestroy(y);
+    if (atol != nullptr) N_VDestroy(atol);
     if (context != nullptr) SUNContext_Free(&context);
   }
 
@@ -93,6 +96,9 @@ Integrator::Integrator(const IntegratorOptions& options,
   m.y = N_VNew_Serial(state_size, m.context);
   check(m.y != nullptr, "N_VNew_Serial");
   N_VConst(0.0, m.y);
+  m.atol = N_VNew_Serial(state_size, m.context);
+  check(m.atol != nullptr, "N_VNew_Serial");
+  m.rtol = options.relative_tolerance;
   m.cvode = CVodeCreate(options.bdf ? CV_BDF : CV_ADAMS, m.context);
   check(m.cvode != nullptr, "CVodeCreate");
   check(CVodeInit(m.cvode, &Impl::rhs_trampoline, 0.0, m.y) == CV_SUCCESS, "CVodeInit");
@@ -126,6 +132,20 @@ Status Integrator::reset(double t0, const double* y0) noexcept {
   Impl& m = *impl_;
   std::memcpy(N_VGetArrayPointer(m.y), y0, sizeof(double) * static_cast<std::size_t>(m.size));
   m.last_flag = CVodeReInit(m.cvode, t0, m.y);
+  return m.last_flag == CV_SUCCESS ? Status::kOk : Status::kIntegratorFailed;
+}
+
+Status Integrator::set_absolute_tolerances(const double* atol) noexcept {
+  Impl& m = *impl_;
+  double* dst = N_VGetArrayPointer(m.atol);
+  for (int i = 0; i < m.size; ++i) {
+    if (!(atol[i] > 0.0 && std::isfinite(atol[i]))) {
+      m.last_flag = CV_ILL_INPUT;
+      return Status::kInvalidInput;
+    }
+    dst[i] = atol[i];
+  }
+  m.last_flag = CVodeSVtolerances(m.cvode, m.rtol, m.atol);
   return m.last_flag == CV_SUCCESS ? Status::kOk : Status::kIntegratorFailed;
 }
 

@@ -52,7 +52,7 @@ class Problem {
   Machine machine_at(const double* log_values) const {
     Machine m = start_;
     for (std::size_t i = 0; i < free_.size(); ++i) {
-      m.parameters.*(free_[i]->field) = std::exp(log_values[i]);
+      free_[i]->set(m.parameters, std::exp(log_values[i]));
     }
     return m;
   }
@@ -62,7 +62,12 @@ class Problem {
     const Machine m = machine_at(log_values);
     dynamics::DatasetOptions opts;
     opts.threads = threads;
+    // Tight tolerances: finite differences need outputs smooth in the parameters.
     opts.simulation.integrator.relative_tolerance = 1e-9;
+    opts.simulation.integrator.absolute_tolerance = 1e-13;
+    // A trial step into a corner of the parameter space (a very fast, undamped mode) is not worth
+    // integrating for minutes: past this it fails, and Levenberg–Marquardt shrinks the step.
+    opts.simulation.integrator.max_steps = 20000;
     opts.simulation.trace_rate_hz = 200.0;
     std::vector<io::DatasetRow> rows = targets_.moves;
     rows.insert(rows.end(), l18_rows_.begin(), l18_rows_.end());
@@ -271,7 +276,7 @@ IdentificationReport identify_machine(const Machine& start,
   std::vector<double> x;
   IdentificationReport report;
   for (const Info* info : free) {
-    const double v = start.parameters.*(info->field);
+    const double v = info->get(start.parameters);
     const std::string key = std::string(info->section) + "." + info->key;
     if (!(v > 0.0)) {
       throw ConfigError("identification: '" + key +

@@ -241,7 +241,7 @@ TEST(BridgeSimulator, CarriagePositionOutOfRangeIsRejectedWithAMessage) {
 TEST(BridgeSimulator, NonPhysicalMachineIsAConfigError) {
   for (const auto& info : machine_parameter_table()) {
     Machine m = default_machine();
-    m.parameters.*info.field = info.min - std::max(1.0, std::fabs(info.min));
+    info.set(m.parameters, info.min - std::max(1.0, std::fabs(info.min)));
     const std::string key = std::string(info.section) + "." + info.key;
     try {
       BridgeSimulator sim(m);

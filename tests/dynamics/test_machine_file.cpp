@@ -103,7 +103,7 @@ TEST(MachineFile, DefaultMachineParsesAndIsPhysical) {
   EXPECT_TRUE(is_physical(m.parameters, &why)) << why;
   EXPECT_FALSE(machine_parameter_table().empty());
   for (const Info& info : machine_parameter_table()) {
-    EXPECT_TRUE(std::isfinite(m.parameters.*info.field)) << full_key(info);
+    EXPECT_TRUE(std::info.get(isfinite(m.parameters))) << full_key(info);
     EXPECT_LE(info.min, info.max) << full_key(info);
   }
 }
@@ -113,7 +113,7 @@ TEST(MachineFile, TableHasUniqueKeysAndCoversDistinctFields) {
   for (std::size_t i = 0; i < table.size(); ++i) {
     for (std::size_t j = i + 1; j < table.size(); ++j) {
       EXPECT_NE(full_key(table[i]), full_key(table[j]));
-      EXPECT_NE(table[i].field, table[j].field) << full_key(table[i]) << " " << full_key(table[j]);
+      EXPECT_NE(table[i].ref, table[j].ref) << full_key(table[i]) << " " << full_key(table[j]);
     }
   }
 }
@@ -124,7 +124,7 @@ TEST(MachineFile, FormatThenParseReproducesTheDefaultMachineExactly) {
   EXPECT_EQ(back.name, m.name);
   EXPECT_EQ(back.description, m.description);
   for (const Info& info : machine_parameter_table()) {
-    EXPECT_EQ(back.parameters.*info.field, m.parameters.*info.field) << full_key(info);
+    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
   }
 }
 
@@ -135,20 +135,20 @@ TEST(MachineFile, RoundTripKeepsEveryParameterNameAndEscapedDescription) {
   // A new value for every parameter, inside its bounds and different from the default, with 9
   // significant digits (what a hand-written or identified file holds).
   for (const Info& info : machine_parameter_table()) {
-    const double d = m.parameters.*info.field;
+    const double d = info.get(m.parameters);
     double v = d * 1.23456789;
     if (!(v >= info.min && v <= info.max) || v == d) v = info.min + (info.max - info.min) * 0.3125;
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.9g", v);
     v = std::strtod(buf, nullptr);
     ASSERT_TRUE(v >= info.min && v <= info.max) << full_key(info);
-    m.parameters.*info.field = v;
+    info.set(m.parameters, v);
   }
   const Machine back = parse_machine(format_machine(m), kSource);
   EXPECT_EQ(back.name, m.name);
   EXPECT_EQ(back.description, m.description);
   for (const Info& info : machine_parameter_table()) {
-    EXPECT_EQ(back.parameters.*info.field, m.parameters.*info.field) << full_key(info);
+    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
   }
 }
 
@@ -162,7 +162,7 @@ TEST(MachineFile, LoadMachineReadsAWrittenFile) {
   const Machine back = load_machine(path);
   EXPECT_EQ(back.name, m.name);
   for (const Info& info : machine_parameter_table()) {
-    EXPECT_EQ(back.parameters.*info.field, m.parameters.*info.field) << full_key(info);
+    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
   }
   std::remove(path.c_str());
 }
@@ -330,13 +330,13 @@ TEST(MachineFile, IntegerValuesAreAcceptedForFloatKeys) {
   for (const Info& info : machine_parameter_table()) {
     // An integer inside the bounds, other than the default value where possible.
     double v = std::ceil(info.min);
-    if (v == default_machine().parameters.*info.field && v + 1.0 <= info.max) v += 1.0;
+    if (v == info.get(default_machine().parameters) && v + 1.0 <= info.max) v += 1.0;
     if (!(v <= info.max) || std::fabs(v) > 1e15) continue;
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.0f", v);
     int line = 0;
     const Machine m = parse_machine(with_value(info, buf, &line), kSource);
-    EXPECT_EQ(m.parameters.*info.field, v) << full_key(info) << " = " << buf;
+    info.get(EXPECT_EQ(m.parameters), v) << full_key(info) << " = " << buf;
     ++tested;
   }
   EXPECT_GT(tested, 0);
@@ -345,11 +345,11 @@ TEST(MachineFile, IntegerValuesAreAcceptedForFloatKeys) {
 TEST(MachineFile, IsPhysicalNamesTheOffendingKey) {
   for (const Info& info : machine_parameter_table()) {
     MachineParameters p = default_machine().parameters;
-    p.*info.field = info.min - std::max(1.0, std::fabs(info.min));
+    info.set(p, info.min - std::max(1.0, std::fabs(info.min)));
     std::string why;
     EXPECT_FALSE(is_physical(p, &why)) << full_key(info);
     EXPECT_TRUE(contains(why, full_key(info))) << why;
-    p.*info.field = std::numeric_limits<double>::quiet_NaN();
+    info.set(p, std::numeric_limits<double>::quiet_NaN());
     EXPECT_FALSE(is_physical(p, nullptr)) << full_key(info);
   }
 }
@@ -367,11 +367,11 @@ TEST(MachineFile, UnknownEmptySectionIsRejected) {
 TEST(MachineFile, RoundTripKeepsFullPrecision) {
   Machine m = default_machine();
   for (const Info& info : machine_parameter_table()) {
-    m.parameters.*info.field = info.min + (info.max - info.min) / 3.0;
+    info.set(m.parameters, info.min + (info.max - info.min) / 3.0);
   }
   const Machine back = parse_machine(format_machine(m), kSource);
   for (const Info& info : machine_parameter_table()) {
-    EXPECT_EQ(back.parameters.*info.field, m.parameters.*info.field) << full_key(info);
+    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
   }
 }
 

@@ -331,11 +331,10 @@ int run_identify(const IdentifyCommand& cmd) {
     std::string name;
     while (std::getline(names, name, ',')) options.free_parameters.push_back(name);
   }
-  if (isatty(fileno(stderr)) != 0) {
-    options.progress = [](int iteration, double cost) {
-      std::fprintf(stderr, "iteration %3d  cost %.6g\n", iteration, cost);
-    };
-  }
+  // One line per iteration: an identification takes minutes, and logs want to show it too.
+  options.progress = [](int iteration, double cost) {
+    std::fprintf(stderr, "cmmcomp-sim identify: iteration %3d  cost %.6g\n", iteration, cost);
+  };
   const IdentificationReport r = identify_machine(start, targets, options);
   std::printf("identification of '%s' from %s: %d iterations, cost %.6g -> %.6g (%s)\n\n",
               start.name.c_str(),
@@ -474,6 +473,9 @@ int main(int argc, char** argv) {
       "machine", "print a machine file (default: the embedded one), to start your own from");
   machine_cmd->add_option("--machine", machine_in, "machine file to check and re-print");
   machine_cmd->add_option("-o,--output", machine_out, "write to this file instead of stdout");
+  bool machine_keys = false;
+  machine_cmd->add_flag(
+      "--keys", machine_keys, "print the table of keys (markdown, as in docs/machine-file.md)");
 
   std::string paper_machine;
   std::uint64_t paper_seed = 1;
@@ -499,6 +501,18 @@ int main(int argc, char** argv) {
     if (dataset->parsed()) return run_dataset(ds);
     if (anova->parsed()) return run_anova(anova_path, anova_json);
     if (identify->parsed()) return run_identify(id);
+    if (machine_cmd->parsed() && machine_keys) {
+      for (const auto& info : cmmcomp::dynamics::machine_parameter_table()) {
+        std::printf("| %s | %s | %g .. %g | %s | %s |\n",
+                    info.section,
+                    info.key,
+                    info.min,
+                    info.max,
+                    info.identifiable ? "yes" : "no",
+                    info.description);
+      }
+      return 0;
+    }
     if (machine_cmd->parsed()) {
       const std::string text = cmmcomp::dynamics::format_machine(machine_from(machine_in));
       if (machine_out.empty()) {

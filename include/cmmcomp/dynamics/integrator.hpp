@@ -55,6 +55,10 @@ class Integrator {
   /// Restarts the integration at (t0, y0), discarding the step history: call it at every kink
   /// of the forcing. Returns kOk or kIntegratorFailed.
   [[nodiscard]] Status reset(double t0, const double* y0) noexcept;
+  /// Replaces the scalar absolute tolerance by one per state (`state_size` values, each > 0),
+  /// keeping the relative tolerance. Returns kOk, kInvalidInput for a non-positive or non-finite
+  /// value (nothing changed), or kIntegratorFailed.
+  [[nodiscard]] Status set_absolute_tolerances(const double* atol) noexcept;
   /// The integrator never steps past `t_stop` (set it to the next kink). kOk/kIntegratorFailed.
   [[nodiscard]] Status set_stop_time(double t_stop) noexcept;
   /// Advances towards `t_out`, writing the state to `y` and the time reached to `t_reached`.

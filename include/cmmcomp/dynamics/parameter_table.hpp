@@ -5,20 +5,21 @@
 /// same table, so a parameter is declared in exactly one place.
 #pragma once
 
-#include <cstddef>
-
 namespace cmmcomp::dynamics {
 
-/// One physical parameter of a model struct `Params` (a double member).
+/// One physical parameter of a model struct `Params`.
 template <typename Params>
 struct ParameterInfo {
-  const char* section;      ///< TOML table, e.g. "yaw"
-  const char* key;          ///< key with its unit, e.g. "stiffness_Nm_per_rad"
+  const char* section;      ///< TOML table, e.g. "bridge"
+  const char* key;          ///< key with its unit, e.g. "yaw_stiffness_Nm_per_rad"
   const char* description;  ///< one sentence for docs and messages
-  double Params::*field;    ///< the member it sets
+  double& (*ref)(Params&);  ///< the value it names inside a Params
   double min;               ///< smallest physical value (inclusive)
   double max;               ///< largest physical value (inclusive)
-  bool identifiable;        ///< fitted by `cmmcomp-sim identify` (else held fixed)
+  bool identifiable;        ///< fitted by `cmmcomp-sim identify` by default
+
+  double get(const Params& p) const { return ref(const_cast<Params&>(p)); }
+  void set(Params& p, double value) const { ref(p) = value; }
 };
 
 }  // namespace cmmcomp::dynamics

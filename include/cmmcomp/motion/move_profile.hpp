@@ -291,7 +291,7 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
 
   // Approach: from rest at PD, accelerate towards AV, cruise; touch after AD.
   detail::PhasePlan approach;
-  double approach_accel_end = 0.0;  // from the approach start
+  int approach_ramp_segments = 0;  // segments up to the end of the approach acceleration
   {
     const double d = m.approach_distance;
     const double v = m.approach_speed;
@@ -299,7 +299,7 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
     approach.ramp(v, m.approach_accel, j, 1.0);
     if (d >= d_acc) {
       p.approach_reaches_speed_ = true;
-      approach_accel_end = approach.end_time();
+      approach_ramp_segments = approach.count;
       approach.push((d - d_acc) / v, 0.0, 0.0);
     } else {
       // The probe touches while accelerating: cut the ramp where it has covered AD.
@@ -312,7 +312,7 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
       Segment& s = approach.segments[static_cast<unsigned>(cut)];
       s.duration = detail::time_to_reach(s, d);
       approach.count = cut + 1;
-      approach_accel_end = approach.end_time();
+      approach_ramp_segments = approach.count;
     }
   }
 
@@ -320,8 +320,12 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
   // never shifts the touch point.
   p.append(positioning, 0.0, 0.0);
   p.append(approach, p.instants_.positioning_end, m.positioning_distance);
-  p.instants_.approach_accel_end = p.instants_.positioning_end + approach_accel_end;
-  p.instants_.touch = p.instants_.positioning_end + approach.end_time();
+  // Every instant is read off the appended segments, so it equals a segment boundary to the
+  // last bit (an integrator stopping at the boundaries lands exactly on the instants).
+  const int first_approach = p.segment_count_ - approach.count;
+  p.instants_.approach_accel_end =
+      p.segments_[static_cast<unsigned>(first_approach + approach_ramp_segments - 1)].end_time();
+  p.instants_.touch = p.segments_[static_cast<unsigned>(p.segment_count_ - 1)].end_time();
   out = p;
   return Status::kOk;
 }
