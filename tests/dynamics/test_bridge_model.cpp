@@ -39,6 +39,16 @@ const SimulationResult& baseline_traced() {
   return result;
 }
 
+/// Traced and untraced runs stop the integrator at different output times, so they agree to the
+/// integration tolerance (1e-11 m = 1e-5 µm on the tip error), not to the bit.
+void expect_close_errors(const errors::DynamicErrors& a, const errors::DynamicErrors& b) {
+  constexpr double kTolUm = 1e-4;
+  EXPECT_NEAR(a.mpe, b.mpe, kTolUm);
+  EXPECT_NEAR(a.rpe, b.rpe, kTolUm);
+  EXPECT_NEAR(a.mae, b.mae, kTolUm);
+  EXPECT_NEAR(a.rae, b.rae, kTolUm);
+}
+
 void expect_same_errors(const errors::DynamicErrors& a, const errors::DynamicErrors& b) {
   EXPECT_EQ(a.mpe, b.mpe);
   EXPECT_EQ(a.rpe, b.rpe);
@@ -143,7 +153,7 @@ TEST(BridgeSimulator, RecordingTheTraceDoesNotChangeTheResult) {
   BridgeSimulator sim(default_machine());
   const SimulationResult r = sim.simulate(motion::baseline_move(), kBaselineY);
   EXPECT_TRUE(r.trace.empty());
-  expect_same_errors(r.errors_um, baseline_traced().errors_um);
+  expect_close_errors(r.errors_um, baseline_traced().errors_um);
 }
 
 TEST(BridgeSimulator, RepeatedAndInterleavedMovesGiveIdenticalResults) {
@@ -159,8 +169,10 @@ TEST(BridgeSimulator, RepeatedAndInterleavedMovesGiveIdenticalResults) {
   expect_same_errors(again.errors_um, first.errors_um);
   EXPECT_EQ(again.stats.steps, first.stats.steps);
   EXPECT_EQ(again.stats.rhs_evals, first.stats.rhs_evals);
-  // A fresh simulator agrees too: no state leaks between moves.
-  expect_same_errors(first.errors_um, baseline_traced().errors_um);
+  // A fresh simulator agrees to the bit: no state leaks between moves.
+  BridgeSimulator fresh(default_machine());
+  expect_same_errors(first.errors_um,
+                     fresh.simulate(motion::baseline_move(), kBaselineY).errors_um);
 }
 
 TEST(BridgeSimulator, TighterToleranceChangesEveryParameterByLessThanANanometre) {
@@ -234,8 +246,8 @@ TEST(BridgeSimulator, CarriagePositionOutOfRangeIsRejectedWithAMessage) {
     EXPECT_TRUE(std::isfinite(sim.simulate(motion::baseline_move(), y).errors_um.mpe)) << y;
   }
   // The simulator stays usable after rejecting input.
-  expect_same_errors(sim.simulate(motion::baseline_move(), kBaselineY).errors_um,
-                     baseline_traced().errors_um);
+  expect_close_errors(sim.simulate(motion::baseline_move(), kBaselineY).errors_um,
+                      baseline_traced().errors_um);
 }
 
 TEST(BridgeSimulator, NonPhysicalMachineIsAConfigError) {

@@ -103,7 +103,7 @@ TEST(MachineFile, DefaultMachineParsesAndIsPhysical) {
   EXPECT_TRUE(is_physical(m.parameters, &why)) << why;
   EXPECT_FALSE(machine_parameter_table().empty());
   for (const Info& info : machine_parameter_table()) {
-    EXPECT_TRUE(std::info.get(isfinite(m.parameters))) << full_key(info);
+    EXPECT_TRUE(std::isfinite(info.get(m.parameters))) << full_key(info);
     EXPECT_LE(info.min, info.max) << full_key(info);
   }
 }
@@ -124,7 +124,7 @@ TEST(MachineFile, FormatThenParseReproducesTheDefaultMachineExactly) {
   EXPECT_EQ(back.name, m.name);
   EXPECT_EQ(back.description, m.description);
   for (const Info& info : machine_parameter_table()) {
-    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
+    EXPECT_EQ(info.get(back.parameters), info.get(m.parameters)) << full_key(info);
   }
 }
 
@@ -148,7 +148,7 @@ TEST(MachineFile, RoundTripKeepsEveryParameterNameAndEscapedDescription) {
   EXPECT_EQ(back.name, m.name);
   EXPECT_EQ(back.description, m.description);
   for (const Info& info : machine_parameter_table()) {
-    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
+    EXPECT_EQ(info.get(back.parameters), info.get(m.parameters)) << full_key(info);
   }
 }
 
@@ -162,7 +162,7 @@ TEST(MachineFile, LoadMachineReadsAWrittenFile) {
   const Machine back = load_machine(path);
   EXPECT_EQ(back.name, m.name);
   for (const Info& info : machine_parameter_table()) {
-    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
+    EXPECT_EQ(info.get(back.parameters), info.get(m.parameters)) << full_key(info);
   }
   std::remove(path.c_str());
 }
@@ -336,7 +336,7 @@ TEST(MachineFile, IntegerValuesAreAcceptedForFloatKeys) {
     std::snprintf(buf, sizeof buf, "%.0f", v);
     int line = 0;
     const Machine m = parse_machine(with_value(info, buf, &line), kSource);
-    info.get(EXPECT_EQ(m.parameters), v) << full_key(info) << " = " << buf;
+    EXPECT_EQ(info.get(m.parameters), v) << full_key(info) << " = " << buf;
     ++tested;
   }
   EXPECT_GT(tested, 0);
@@ -371,7 +371,7 @@ TEST(MachineFile, RoundTripKeepsFullPrecision) {
   }
   const Machine back = parse_machine(format_machine(m), kSource);
   for (const Info& info : machine_parameter_table()) {
-    info.get(EXPECT_EQ(back.parameters), info.get(m.parameters)) << full_key(info);
+    EXPECT_EQ(info.get(back.parameters), info.get(m.parameters)) << full_key(info);
   }
 }
 
