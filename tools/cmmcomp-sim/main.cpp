@@ -331,10 +331,12 @@ int run_identify(const IdentifyCommand& cmd) {
     std::string name;
     while (std::getline(names, name, ',')) options.free_parameters.push_back(name);
   }
-  // One line per iteration: an identification takes minutes, and logs want to show it too.
-  options.progress = [](int iteration, double cost) {
-    std::fprintf(stderr, "cmmcomp-sim identify: iteration %3d  cost %.6g\n", iteration, cost);
-  };
+  // Progress on a terminal only (an identification takes minutes); quiet in logs and pipes.
+  if (isatty(fileno(stderr)) != 0) {
+    options.progress = [](int iteration, double cost) {
+      std::fprintf(stderr, "cmmcomp-sim identify: iteration %3d  cost %.6g\n", iteration, cost);
+    };
+  }
   const IdentificationReport r = identify_machine(start, targets, options);
   std::printf("identification of '%s' from %s: %d iterations, cost %.6g -> %.6g (%s)\n\n",
               start.name.c_str(),
