@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: MIT
+/// @file The versioned JSON model file of a trained T-S network, and its constexpr C++ export.
+///
+/// Format (docs/model-file.md): one JSON object with `format` = "cmmcomp-tsk-model",
+/// `format_version` = 1, `architecture`, `inputs` (names, units, normalisation ranges),
+/// `outputs`, `parameters` (centres, widths and consequents as nested arrays, same order as the
+/// flat layout of tsk_params.hpp), `training` metadata, and `checksum`: the SHA-256 (lower-case
+/// hex) of the compact, key-sorted serialisation of the object without `checksum`. Loading
+/// validates everything and throws ConfigError "source: where: what is wrong".
+///
+/// Everything here is Setup only (allocates, may throw). The JSON library stays inside
+/// src/io/model_file.cpp; the templates below only convert to and from a runtime struct.
+#pragma once
+
+#include <array>
+#include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace cmmcomp::io {
+
+/// `format` of every model file.
+inline constexpr const char* kModelFileFormat = "cmmcomp-tsk-model";
+/// `format_version` this library writes and the only one it reads.
+inline constexpr int kModelFileVersion = 1;
+
+/// How a model was trained (the `training` object). Informational: nothing here changes how the
+/// model evaluates, but it is covered by the checksum.
+struct ModelMetadata {
+  /// SHA-256 of the training data file, 64 lower-case hex digits (`sha256_file_hex`), or empty
+  /// when the model did not come from a file.
+  std::string data_file_sha256;
+  std::string method;           ///< training method, free text (e.g. "ceres-lm"); non-empty
+  double lambda = 0.0;          ///< regularisation weight, finite, >= 0
+  std::vector<double> cv_rmse;  ///< cross-validated RMSE per output (one per output, >= 0)
+  std::string trained_at;       ///< ISO-8601 UTC, `YYYY-MM-DDTHH:MM:SS[.fff]Z`
+  std::uint64_t seed = 0;       ///< random seed of the training run
+  std::string tool_version;     ///< version of the tool that trained it; non-empty
+
+  bool operator==(const ModelMetadata& o) const {
+    return data_file_sha256 == o.data_file_sha256 && method == o.method && lambda == o.lambda &&
+           cv_rmse == o.cv_rmse && trained_at == o.trained_at && seed == o.seed &&
+           tool_version == o.tool_version;
+  }
+  bool operator!=(const ModelMetadata& o) const { return !(*this == o); }
+};
+
+/// Sizes stored in a file's `architecture` (see `read_model_architecture`).
+struct ModelArchitecture {
+  int inputs = 0;          ///< inputs of the network
+  int sets_per_input = 0;  ///< Gaussian sets per input
+  int outputs = 0;         ///< outputs (consequent blocks)
+};
+
+/// A model file in memory: the network with its ranges, names, units and training metadata.
+/// Any sizes work; the project uses <4,3,4> (PaperMultiNetwork), <4,3,1> (PaperNetwork) and
+/// <5,3,4> (inputs PV, PD, AV, AD, Y; 243 rules).
+template <int kInputs, int kSets, int kOutputs>
+struct ModelFile {
+  using Model = fuzzy::TskModel<double, kInputs, kSets, kOutputs>;
+  Model model{};                                     ///< ranges (raw units) and parameters
+  std::array<std::string, kInputs> input_names{};    ///< unique, non-empty (e.g. "pv_mm_s")
+  std::array<std::string, kInputs> input_units{};    ///< unit of each input (e.g. "mm/s")
+  std::array<std::string, kOutputs> output_names{};  ///< unique, non-empty (e.g. "mpe_um")
+  std::array<std::string, kOutputs> output_units{};  ///< unit of each output (e.g. "um")
+  ModelMetadata training{};                          ///< how it was trained
+  /// SHA-256 of the content (64 hex). Filled by parse/load; ignored when writing (recomputed).
+  std::string checksum;
+  /// First 16 hex digits of `checksum`: names the model in logs. Filled by parse/load.
+  std::string model_id;
+};
+
+namespace detail {
+
+/// Size-erased form of ModelFile, the interface to src/io/model_file.cpp. Not API.
+struct ModelData {
+  int inputs = 0;
+  int sets = 0;
+  int outputs = 0;
+  std::vector<std::string> input_names, input_units, output_names, output_units;
+  std::vector<fuzzy::InputRange> ranges;
+  std::vector<double> params;  ///< flat layout of tsk_params.hpp
+  ModelMetadata training;
+  std::string checksum;
+};
+
+std::string format_model_json(const ModelData& data);
+ModelData parse_model_json(const std::string& text,
+                           const std::string& source,
+                           const ModelArchitecture& expected);
+std::string export_model_header(const ModelData& data, const std::string& symbol_name);
+std::string read_text_file(const std::string& path, const char* what);
+void write_text_file(const std::string& path, const std::string& text);
+
+template <int kInputs, int kSets, int kOutputs>
+ModelData to_data(const ModelFile<kInputs, kSets, kOutputs>& file) {
+  ModelData d;
+  d.inputs = kInputs;
+  d.sets = kSets;
+  d.outputs = kOutputs;
+  d.input_names.assign(file.input_names.begin(), file.input_names.end());
+  d.input_units.assign(file.input_units.begin(), file.input_units.end());
+  d.output_names.assign(file.output_names.begin(), file.output_names.end());
+  d.output_units.assign(file.output_units.begin(), file.output_units.end());
+  d.ranges.assign(file.model.ranges.begin(), file.model.ranges.end());
+  d.params.assign(file.model.params.values.begin(), file.model.params.values.end());
+  d.training = file.training;
+  return d;
+}
+
+template <int kInputs, int kSets, int kOutputs>
+ModelFile<kInputs, kSets, kOutputs> from_data(const ModelData& d) {
+  ModelFile<kInputs, kSets, kOutputs> f;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kInputs); ++i) {
+    f.input_names[i] = d.input_names[i];
+    f.input_units[i] = d.input_units[i];
+    f.model.ranges[i] = d.ranges[i];
+  }
+  for (std::size_t o = 0; o < static_cast<std::size_t>(kOutputs); ++o) {
+    f.output_names[o] = d.output_names[o];
+    f.output_units[o] = d.output_units[o];
+  }
+  for (std::size_t k = 0; k < f.model.params.values.size(); ++k) {
+    f.model.params.values[k] = d.params[k];
+  }
+  f.training = d.training;
+  f.checksum = d.checksum;
+  f.model_id = d.checksum.substr(0, 16);
+  return f;
+}
+
+}  // namespace detail
+
+/// The model file text (UTF-8 JSON, 2-space indent, numbers round-trip exact, checksum
+/// computed). Setup only. Throws ConfigError if `file` would not load back: model not valid
+/// (`fuzzy::validate`), an empty or duplicate name, `training.cv_rmse` not one finite value >= 0
+/// per output, a malformed `trained_at` or `data_file_sha256`, a negative or non-finite lambda,
+/// an empty method or tool version.
+template <int kInputs, int kSets, int kOutputs>
+std::string format_model_json(const ModelFile<kInputs, kSets, kOutputs>& file) {
+  return detail::format_model_json(detail::to_data(file));
+}
+
+/// Parses and validates model file text; `source` names it in messages. The file's
+/// architecture must be kInputs × kSets × kOutputs. Setup only. Throws ConfigError naming the
+/// source, the key path and the problem: not JSON (with byte offset), wrong `format`, missing or
+/// unsupported `format_version`, architecture mismatch (both stated), a missing or unknown key,
+/// a wrong type or array length, a non-finite number, width <= 0, lo >= hi, a checksum
+/// mismatch, or a number not written in the canonical form this library writes (an edit that
+/// kept the value; see docs/model-file.md).
+template <int kInputs, int kSets, int kOutputs>
+ModelFile<kInputs, kSets, kOutputs> parse_model_json(const std::string& text,
+                                                     const std::string& source) {
+  return detail::from_data<kInputs, kSets, kOutputs>(
+      detail::parse_model_json(text, source, ModelArchitecture{kInputs, kSets, kOutputs}));
+}
+
+/// Reads and parses a model file. Setup only. Throws ConfigError "path: cannot open model file"
+/// or as parse_model_json.
+template <int kInputs, int kSets, int kOutputs>
+ModelFile<kInputs, kSets, kOutputs> load_model_file(const std::string& path) {
+  return parse_model_json<kInputs, kSets, kOutputs>(detail::read_text_file(path, "model file"),
+                                                    path);
+}
+
+/// Writes `format_model_json(file)` to `path` (replacing it). Setup only. Throws as
+/// format_model_json, or Error when the file cannot be written. Returns the model id (first 16
+/// hex digits of the checksum).
+template <int kInputs, int kSets, int kOutputs>
+std::string save_model_file(const std::string& path,
+                            const ModelFile<kInputs, kSets, kOutputs>& file) {
+  const std::string text = format_model_json(file);
+  detail::write_text_file(path, text);
+  return parse_model_json<kInputs, kSets, kOutputs>(text, path).model_id;
+}
+
+/// A self-contained C++17 header for firmware without a file system. It includes only
+/// <cmmcomp/fuzzy/tsk_evaluator.hpp> and defines, at global scope,
+///   inline constexpr cmmcomp::fuzzy::TskModel<double, I, S, O> <symbol_name> = {...};
+///   inline constexpr char <symbol_name>_model_id[] = "...";   // 16 hex
+///   inline constexpr char <symbol_name>_checksum[] = "...";   // 64 hex (SHA-256)
+/// with every double written round-trip exact (`%.17g`), and names, units, ranges and training
+/// metadata as comments. The text depends only on the content (deterministic). Setup only.
+/// Throws ConfigError if `symbol_name` is not a C identifier, or as format_model_json.
+template <int kInputs, int kSets, int kOutputs>
+std::string export_model_header(const ModelFile<kInputs, kSets, kOutputs>& file,
+                                const std::string& symbol_name) {
+  return detail::export_model_header(detail::to_data(file), symbol_name);
+}
+
+/// The sizes in a model file's `architecture`, to choose the ModelFile type to parse it with.
+/// Validates only JSON syntax, `format`, `format_version` and `architecture`. Setup only;
+/// throws ConfigError.
+ModelArchitecture read_model_architecture(const std::string& text, const std::string& source);
+
+/// SHA-256 of `bytes`, 64 lower-case hex digits (FIPS 180-4).
+std::string sha256_hex(const std::string& bytes);
+/// SHA-256 of a file's bytes (for `ModelMetadata::data_file_sha256`). Throws ConfigError when
+/// the file cannot be read.
+std::string sha256_file_hex(const std::string& path);
+/// The current time as ISO-8601 UTC with whole seconds, `YYYY-MM-DDTHH:MM:SSZ`.
+std::string utc_timestamp_now();
+
+}  // namespace cmmcomp::io
