@@ -1,1 +1,618 @@
-// placeholder: written by the trainer pass
+// SPDX-License-Identifier: MIT
+/// @file Ceres training of the T-S network: ridge initialisation, k-fold CV, LM, GD baseline.
+#include <ceres/ceres.h>
+#include <ceres/dynamic_autodiff_cost_function.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/training/fnn_trainer.hpp>
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace cmmcomp::training {
+
+namespace {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+/// SplitMix64 (see the header): portable, bit-identical everywhere.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() noexcept {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [0, 1) from the top 53 bits.
+  double uniform() noexcept { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double uniform(double lo, double hi) noexcept { return lo + (hi - lo) * uniform(); }
+  /// Uniform integer in [0, n), n > 0, by rejection (no modulo bias).
+  std::uint64_t below(std::uint64_t n) noexcept {
+    const std::uint64_t limit =
+        std::numeric_limits<std::uint64_t>::max() - std::numeric_limits<std::uint64_t>::max() % n;
+    std::uint64_t v = next();
+    while (v >= limit) v = next();
+    return v % n;
+  }
+};
+
+std::size_t sz(Index i) { return static_cast<std::size_t>(i); }
+
+bool all_finite(const std::vector<double>& v) {
+  return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+}
+
+/// Ridge consequents in dual form for every output: P = Φᵀ U (Λ + λ)⁻¹ Uᵀ Z, with K = ΦΦᵀ = UΛUᵀ.
+/// λ = 0 gives the minimum-norm least-squares solution (eigenvalues below a relative tolerance
+/// are dropped).
+class RidgeDual {
+ public:
+  RidgeDual(const MatrixXd& phi, const MatrixXd& z) : phi_(phi) {
+    const MatrixXd k = phi * phi.transpose();
+    Eigen::SelfAdjointEigenSolver<MatrixXd> eig(k);
+    u_ = eig.eigenvectors();
+    lambda_ = eig.eigenvalues();
+    uz_ = u_.transpose() * z;
+    const double top = lambda_.size() > 0 ? std::max(lambda_.maxCoeff(), 0.0) : 0.0;
+    tol_ = top * static_cast<double>(k.rows()) * 1e-13;
+  }
+
+  /// Dual coefficients A = U (Λ + λ)⁻¹ Uᵀ Z (N × outputs); P = Φᵀ A, predictions at x: φ(x)ᵀP.
+  MatrixXd dual(double lambda) const {
+    VectorXd inv(lambda_.size());
+    for (Index i = 0; i < lambda_.size(); ++i) {
+      const double l = std::max(lambda_(i), 0.0);
+      inv(i) = (lambda > 0.0) ? 1.0 / (l + lambda) : (l > tol_ ? 1.0 / l : 0.0);
+    }
+    return u_ * (inv.asDiagonal() * uz_);
+  }
+
+  MatrixXd consequents(double lambda) const { return phi_.transpose() * dual(lambda); }
+
+ private:
+  const MatrixXd& phi_;
+  MatrixXd u_;
+  VectorXd lambda_;
+  MatrixXd uz_;
+  double tol_ = 0;
+};
+
+/// √λ·p for the kTerms consequents of one rule: linear, Jacobian √λ·I.
+template <int kTerms>
+class RidgeCost final : public ceres::SizedCostFunction<kTerms, kTerms> {
+ public:
+  explicit RidgeCost(double lambda) : s_(std::sqrt(lambda)) {}
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    for (int t = 0; t < kTerms; ++t) residuals[t] = s_ * parameters[0][t];
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      for (int r = 0; r < kTerms; ++r) {
+        for (int c = 0; c < kTerms; ++c) jacobians[0][r * kTerms + c] = (r == c) ? s_ : 0.0;
+      }
+    }
+    return true;
+  }
+
+ private:
+  double s_;
+};
+
+class ProgressCallback final : public ceres::IterationCallback {
+ public:
+  explicit ProgressCallback(const std::function<void(int, double)>& f) : f_(f) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (f_) f_(s.iteration, s.cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(int, double)>& f_;
+};
+
+/// Everything one training run works on.
+template <int kInputs, int kSets, int kOutputs>
+class Trainer {
+ public:
+  using Model = fuzzy::TskModel<double, kInputs, kSets, kOutputs>;
+  using Layout = fuzzy::TskLayout<kInputs, kSets, kOutputs>;
+  using Single = fuzzy::TskLayout<kInputs, kSets, 1>;
+  using Residual = FnnSampleResidual<kInputs, kSets>;
+  static constexpr int kPremise = Layout::kConsequentsOffset;
+  static constexpr int kRules = Layout::kRules;
+  static constexpr int kTerms = Layout::kTerms;
+  static constexpr int kBlock = Layout::kConsequentBlock;
+
+  Trainer(const std::vector<std::array<double, kInputs>>& inputs,
+          const std::vector<std::array<double, kOutputs>>& targets,
+          const FnnTrainingOptions& options)
+      : raw_inputs_(inputs), raw_targets_(targets), options_(options) {
+    check_and_normalise();
+  }
+
+  FnnTrainingResult<kInputs, kSets, kOutputs> run() {
+    const auto start = std::chrono::steady_clock::now();
+    FnnTrainingResult<kInputs, kSets, kOutputs> result;
+    TrainingSummary& s = result.summary;
+    s.method = options_.method;
+
+    // Steps 3 and 4: premise initialisation, CV of the ridge consequents, ridge init at λ.
+    std::vector<double> premise = initial_premise();
+    const MatrixXd phi = design_matrix(premise);
+    s.lambda_grid =
+        options_.lambda < 0.0 ? options_.lambda_grid : std::vector<double>{options_.lambda};
+    const MatrixXd sse = cross_validate(phi, s.lambda_grid);  // [grid][output]
+    std::size_t best = 0;
+    for (std::size_t g = 0; g < s.lambda_grid.size(); ++g) {
+      const double mse = sse.row(static_cast<Index>(g)).sum() / (n_ * kOutputs);
+      s.cv_mse_grid.push_back(mse);
+      const double best_mse = s.cv_mse_grid[best];
+      const bool better =
+          mse < best_mse || (mse == best_mse && s.lambda_grid[g] > s.lambda_grid[best]);
+      if (g == 0 || better || !std::isfinite(best_mse)) best = g;
+    }
+    s.lambda = s.lambda_grid[best];
+    for (int o = 0; o < kOutputs; ++o) {
+      s.cv_rmse.push_back(std::sqrt(sse(static_cast<Index>(best), o) / n_) * scale_[sz(o)]);
+    }
+    const RidgeDual ridge(phi, z_);
+    const MatrixXd p0 = ridge.consequents(s.lambda);  // kBlock × kOutputs
+    std::vector<double> consequents(static_cast<std::size_t>(kOutputs * kBlock));
+    for (int o = 0; o < kOutputs; ++o) {
+      for (int k = 0; k < kBlock; ++k) consequents[sz(o * kBlock + k)] = p0(k, o);
+    }
+    const Model init = make_model(premise, consequents);
+    s.init_train_rmse = train_rmse(init);
+
+    if (options_.method == FnnMethod::kLevenbergMarquardt) {
+      run_lm(premise, consequents, s);
+    } else {
+      if (options_.lambda <= 0.0) s.lambda = 0.0;
+      run_gd(premise, consequents, s);
+    }
+
+    result.model = make_model(premise, consequents);
+    if (!(all_finite(premise) && all_finite(consequents)) || !fuzzy::validate(result.model)) {
+      result.model = init;
+      s.solution_usable = false;
+      s.message += " (parameters not usable: returned the ridge initialisation)";
+    }
+    s.train_rmse = train_rmse(result.model);
+    s.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
+
+ private:
+  std::string input_name(int i) const {
+    if (options_.input_names.size() == static_cast<std::size_t>(kInputs)) {
+      return "input '" + options_.input_names[sz(i)] + "'";
+    }
+    return "input " + std::to_string(i);
+  }
+
+  void check_and_normalise() {
+    std::string why;
+    if (!options_.is_valid(&why)) throw ConfigError("FNN training options: " + why);
+    const std::size_t n = raw_inputs_.size();
+    if (n == 0) throw ConfigError("FNN training: no samples");
+    if (raw_targets_.size() != n) {
+      throw ConfigError("FNN training: " + std::to_string(n) + " input rows but " +
+                        std::to_string(raw_targets_.size()) + " target rows");
+    }
+    if (n < static_cast<std::size_t>(options_.folds)) {
+      throw ConfigError("FNN training: " + std::to_string(n) + " samples are fewer than the " +
+                        std::to_string(options_.folds) + " cross-validation folds");
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      for (int i = 0; i < kInputs; ++i) {
+        if (!std::isfinite(raw_inputs_[k][sz(i)])) {
+          throw ConfigError("FNN training: sample " + std::to_string(k) + ": " + input_name(i) +
+                            " is not finite");
+        }
+      }
+      for (int o = 0; o < kOutputs; ++o) {
+        if (!std::isfinite(raw_targets_[k][sz(o)])) {
+          throw ConfigError("FNN training: sample " + std::to_string(k) + ": target " +
+                            std::to_string(o) + " is not finite");
+        }
+      }
+    }
+    n_ = static_cast<double>(n);
+    for (int i = 0; i < kInputs; ++i) {
+      double lo = raw_inputs_[0][sz(i)], hi = lo;
+      for (const auto& x : raw_inputs_) {
+        lo = std::min(lo, x[sz(i)]);
+        hi = std::max(hi, x[sz(i)]);
+      }
+      if (!(lo < hi) || !std::isfinite(hi - lo)) {
+        throw ConfigError("FNN training: " + input_name(i) +
+                          " is constant in the data (min == max == " + std::to_string(lo) +
+                          "); it cannot be normalised, drop it");
+      }
+      ranges_[sz(i)] = fuzzy::InputRange{lo, hi};
+    }
+    x_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      for (int i = 0; i < kInputs; ++i) {
+        x_[k][sz(i)] = fuzzy::normalise(raw_inputs_[k][sz(i)], ranges_[sz(i)]);
+      }
+    }
+    z_.resize(static_cast<Index>(n), kOutputs);
+    for (int o = 0; o < kOutputs; ++o) {
+      double mean = 0;
+      for (const auto& t : raw_targets_) mean += t[sz(o)];
+      mean /= n_;
+      double var = 0;
+      for (const auto& t : raw_targets_) var += (t[sz(o)] - mean) * (t[sz(o)] - mean);
+      const double sd = std::sqrt(var / n_);
+      mean_[sz(o)] = mean;
+      scale_[sz(o)] = (sd > 0.0 && std::isfinite(sd)) ? sd : 1.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        z_(static_cast<Index>(k), o) = (raw_targets_[k][sz(o)] - mean) / scale_[sz(o)];
+      }
+    }
+  }
+
+  std::vector<double> initial_premise() const {
+    std::vector<double> premise(static_cast<std::size_t>(kPremise));
+    const double spacing = kSets > 1 ? 1.0 / (kSets - 1) : 1.0;
+    for (int i = 0; i < kInputs; ++i) {
+      for (int s = 0; s < kSets; ++s) {
+        premise[sz(Layout::centre_index(i, s))] = kSets > 1 ? s * spacing : 0.5;
+        premise[sz(Layout::width_index(i, s))] = std::max(spacing, options_.min_width);
+      }
+    }
+    return premise;
+  }
+
+  /// Φ (N × kBlock): row n = ᾱ_j(x_n)·[1, x_n] for every rule j, the consequent layout.
+  MatrixXd design_matrix(const std::vector<double>& premise) const {
+    using Net = fuzzy::TskEvaluator<double, kInputs, kSets, 1>;
+    std::vector<double> params(static_cast<std::size_t>(Single::kParamCount), 0.0);
+    std::copy(premise.begin(), premise.end(), params.begin());
+    MatrixXd phi(static_cast<Index>(x_.size()), kBlock);
+    typename Net::Firing alpha;
+    for (std::size_t k = 0; k < x_.size(); ++k) {
+      const double total = Net::firing(params.data(), x_[k], alpha);
+      for (int j = 0; j < kRules; ++j) {
+        const double a = alpha[sz(j)] / total;
+        phi(static_cast<Index>(k), j * kTerms) = a;
+        for (int i = 0; i < kInputs; ++i) {
+          phi(static_cast<Index>(k), j * kTerms + 1 + i) = a * x_[k][sz(i)];
+        }
+      }
+    }
+    return phi;
+  }
+
+  /// Sum of squared CV errors [normalised], rows = grid values, columns = outputs.
+  MatrixXd cross_validate(const MatrixXd& phi, const std::vector<double>& grid) const {
+    const std::size_t n = x_.size();
+    const auto folds = static_cast<std::size_t>(options_.folds);
+    std::vector<std::size_t> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = k;
+    SplitMix64 rng{options_.seed};
+    for (std::size_t k = n; k > 1; --k) std::swap(order[k - 1], order[rng.below(k)]);
+    std::vector<std::size_t> fold_of(n);
+    for (std::size_t k = 0; k < n; ++k) fold_of[order[k]] = k % folds;
+
+    MatrixXd sse = MatrixXd::Zero(static_cast<Index>(grid.size()), kOutputs);
+    for (std::size_t f = 0; f < folds; ++f) {
+      std::vector<Index> train, test;
+      for (std::size_t k = 0; k < n; ++k)
+        (fold_of[k] == f ? test : train).push_back(static_cast<Index>(k));
+      MatrixXd phi_tr(static_cast<Index>(train.size()), phi.cols());
+      MatrixXd z_tr(static_cast<Index>(train.size()), kOutputs);
+      for (std::size_t r = 0; r < train.size(); ++r) {
+        phi_tr.row(static_cast<Index>(r)) = phi.row(train[r]);
+        z_tr.row(static_cast<Index>(r)) = z_.row(train[r]);
+      }
+      MatrixXd phi_te(static_cast<Index>(test.size()), phi.cols());
+      MatrixXd z_te(static_cast<Index>(test.size()), kOutputs);
+      for (std::size_t r = 0; r < test.size(); ++r) {
+        phi_te.row(static_cast<Index>(r)) = phi.row(test[r]);
+        z_te.row(static_cast<Index>(r)) = z_.row(test[r]);
+      }
+      const RidgeDual ridge(phi_tr, z_tr);
+      const MatrixXd cross = phi_te * phi_tr.transpose();
+      for (std::size_t g = 0; g < grid.size(); ++g) {
+        const MatrixXd err = cross * ridge.dual(grid[g]) - z_te;
+        sse.row(static_cast<Index>(g)) += err.colwise().squaredNorm();
+      }
+    }
+    return sse;
+  }
+
+  /// The model in raw units from normalised-unit parameters.
+  Model make_model(const std::vector<double>& premise,
+                   const std::vector<double>& consequents) const {
+    Model m;
+    m.ranges = ranges_;
+    for (int k = 0; k < kPremise; ++k) m.params.values[sz(k)] = premise[sz(k)];
+    for (int o = 0; o < kOutputs; ++o) {
+      for (int j = 0; j < kRules; ++j) {
+        for (int t = 0; t < kTerms; ++t) {
+          const double p = consequents[sz((o * kRules + j) * kTerms + t)];
+          m.params.consequent(o, j, t) = scale_[sz(o)] * p + (t == 0 ? mean_[sz(o)] : 0.0);
+        }
+      }
+    }
+    return m;
+  }
+
+  std::vector<double> train_rmse(const Model& m) const {
+    std::vector<double> sum(static_cast<std::size_t>(kOutputs), 0.0);
+    typename Model::RawOutput y{};
+    for (std::size_t k = 0; k < raw_inputs_.size(); ++k) {
+      const Status st = fuzzy::evaluate(m, raw_inputs_[k], y, fuzzy::DomainPolicy::kExtrapolate);
+      for (int o = 0; o < kOutputs; ++o) {
+        const double e =
+            ok(st) ? y[sz(o)] - raw_targets_[k][sz(o)] : std::numeric_limits<double>::quiet_NaN();
+        sum[sz(o)] += e * e;
+      }
+    }
+    for (double& v : sum) v = std::sqrt(v / n_);
+    return sum;
+  }
+
+  /// Residual blocks: one per sample and output (FnnSampleResidual), then, when λ > 0, one
+  /// ridge block per rule and output. Blocks point into `premise` and `consequents`.
+  void build_problem(ceres::Problem& problem,
+                     std::vector<double>& premise,
+                     std::vector<double>& consequents,
+                     double lambda,
+                     std::vector<double*>& order) const {
+    order.clear();
+    order.push_back(premise.data());
+    for (int b = 0; b < kOutputs * kRules; ++b) order.push_back(consequents.data() + b * kTerms);
+    std::vector<double*> blocks(static_cast<std::size_t>(kRules + 1));
+    for (int o = 0; o < kOutputs; ++o) {
+      blocks[0] = premise.data();
+      for (int j = 0; j < kRules; ++j) {
+        blocks[sz(j + 1)] = consequents.data() + (o * kRules + j) * kTerms;
+      }
+      for (std::size_t k = 0; k < x_.size(); ++k) {
+        auto* functor = new Residual;
+        functor->input = x_[k];
+        functor->target = z_(static_cast<Index>(k), o);
+        auto* cost = new ceres::DynamicAutoDiffCostFunction<Residual, kFnnJetStride>(functor);
+        cost->AddParameterBlock(kPremise);
+        for (int j = 0; j < kRules; ++j) cost->AddParameterBlock(kTerms);
+        cost->SetNumResiduals(1);
+        problem.AddResidualBlock(cost, nullptr, blocks);
+      }
+    }
+    if (lambda > 0.0) {
+      for (int b = 0; b < kOutputs * kRules; ++b) {
+        problem.AddResidualBlock(
+            new RidgeCost<kTerms>(lambda), nullptr, consequents.data() + b * kTerms);
+      }
+    }
+  }
+
+  void run_lm(std::vector<double>& premise,
+              std::vector<double>& consequents,
+              TrainingSummary& s) const {
+    if (options_.max_iterations == 0) {
+      s.message = "ridge initialisation only (max_iterations = 0)";
+      s.solution_usable = true;
+      s.converged = true;
+      return;
+    }
+    ceres::Problem problem;
+    std::vector<double*> order;
+    build_problem(problem, premise, consequents, s.lambda, order);
+    for (int i = 0; i < kInputs; ++i) {
+      for (int t = 0; t < kSets; ++t) {
+        problem.SetParameterLowerBound(
+            premise.data(), Layout::width_index(i, t), options_.min_width);
+      }
+    }
+    ceres::Solver::Options so;
+    so.minimizer_type = ceres::TRUST_REGION;
+    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    const int params = kPremise + kOutputs * kBlock;
+    if (params <= 1000) {
+      so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
+      so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+    } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
+      so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+    } else {
+      so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    }
+    so.max_num_iterations = options_.max_iterations;
+    so.num_threads = 1;
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    ProgressCallback callback(options_.progress);
+    so.callbacks.push_back(&callback);
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    s.message = summary.message;
+    s.iterations = static_cast<int>(summary.iterations.size()) - 1;  // iteration 0 = start
+    s.initial_cost = summary.initial_cost;
+    s.final_cost = summary.final_cost;
+    s.solution_usable = summary.IsSolutionUsable();
+    s.converged = summary.termination_type == ceres::CONVERGENCE;
+  }
+
+  void run_gd(std::vector<double>& premise,
+              std::vector<double>& consequents,
+              TrainingSummary& s) const {
+    // The paper's random start (seeded), replacing the ridge initialisation.
+    SplitMix64 rng{options_.seed ^ 0x5DEECE66DULL};
+    const double spacing = kSets > 1 ? 1.0 / (kSets - 1) : 1.0;
+    for (int i = 0; i < kInputs; ++i) {
+      for (int t = 0; t < kSets; ++t) premise[sz(Layout::centre_index(i, t))] = rng.uniform();
+      for (int t = 0; t < kSets; ++t) {
+        premise[sz(Layout::width_index(i, t))] =
+            std::max(rng.uniform(0.5, 1.5) * spacing, options_.min_width);
+      }
+    }
+    for (double& p : consequents) p = rng.uniform(-0.5, 0.5);
+
+    ceres::Problem problem;
+    std::vector<double*> order;
+    build_problem(problem, premise, consequents, s.lambda, order);
+    ceres::Problem::EvaluateOptions eo;
+    eo.parameter_blocks = order;
+    eo.num_threads = 1;
+    const std::size_t data_residuals = x_.size() * static_cast<std::size_t>(kOutputs);
+    std::vector<double> residuals, gradient;
+    std::vector<double> last_premise = premise, last_consequents = consequents;
+    s.solution_usable = true;
+    s.message = "epoch limit reached";
+    int epoch = 0;
+    for (;; ++epoch) {
+      double cost = 0;
+      const bool evaluated = problem.Evaluate(eo, &cost, &residuals, &gradient, nullptr);
+      double sq = 0;
+      for (std::size_t r = 0; r < data_residuals && r < residuals.size(); ++r)
+        sq += residuals[r] * residuals[r];
+      const double mse = sq / static_cast<double>(data_residuals);
+      if (!evaluated || !std::isfinite(cost) || !all_finite(gradient)) {
+        premise = last_premise;
+        consequents = last_consequents;
+        s.solution_usable = epoch > 0;
+        s.message = "gradient descent: non-finite cost or gradient at epoch " +
+                    std::to_string(epoch) + "; stopped at the last finite parameters";
+        break;
+      }
+      if (epoch == 0) s.initial_cost = cost;
+      s.final_cost = cost;
+      if (options_.progress) options_.progress(epoch, cost);
+      if (mse <= options_.goal) {
+        s.converged = true;
+        s.message = "gradient descent: goal reached (MSE " + std::to_string(mse) +
+                    " <= " + std::to_string(options_.goal) + ")";
+        break;
+      }
+      if (epoch >= options_.epochs) break;
+      last_premise = premise;
+      last_consequents = consequents;
+      for (int k = 0; k < kPremise; ++k) premise[sz(k)] -= options_.learning_rate * gradient[sz(k)];
+      for (std::size_t k = 0; k < consequents.size(); ++k) {
+        consequents[k] -= options_.learning_rate * gradient[static_cast<std::size_t>(kPremise) + k];
+      }
+      for (int i = 0; i < kInputs; ++i) {
+        for (int t = 0; t < kSets; ++t) {
+          double& w = premise[sz(Layout::width_index(i, t))];
+          w = std::max(w, options_.min_width);
+        }
+      }
+    }
+    s.iterations = epoch;
+  }
+
+  const std::vector<std::array<double, kInputs>>& raw_inputs_;
+  const std::vector<std::array<double, kOutputs>>& raw_targets_;
+  const FnnTrainingOptions& options_;
+  double n_ = 0;
+  std::array<fuzzy::InputRange, kInputs> ranges_{};
+  std::vector<std::array<double, kInputs>> x_;  ///< normalised inputs
+  MatrixXd z_;                                  ///< normalised targets, N × kOutputs
+  std::array<double, kOutputs> mean_{}, scale_{};
+};
+
+}  // namespace
+
+const char* to_string(FnnMethod method) noexcept {
+  switch (method) {
+    case FnnMethod::kLevenbergMarquardt:
+      return "levenberg-marquardt";
+    case FnnMethod::kGradientDescent:
+      return "gradient-descent";
+  }
+  return "unknown";
+}
+
+bool FnnTrainingOptions::is_valid(std::string* why) const {
+  auto fail = [why](const std::string& msg) {
+    if (why != nullptr) *why = msg;
+    return false;
+  };
+  if (method != FnnMethod::kLevenbergMarquardt && method != FnnMethod::kGradientDescent) {
+    return fail("method is not a FnnMethod value");
+  }
+  if (folds < 2) return fail("folds must be >= 2");
+  if (std::isnan(lambda) || std::isinf(lambda))
+    return fail("lambda must be finite (< 0: choose by CV)");
+  if (lambda < 0.0) {
+    if (lambda_grid.empty()) return fail("lambda_grid is empty (needed when lambda < 0)");
+    for (double l : lambda_grid) {
+      if (!(l >= 0.0) || !std::isfinite(l))
+        return fail("lambda_grid values must be finite and >= 0");
+    }
+  }
+  if (max_iterations < 0) return fail("max_iterations must be >= 0");
+  if (!(min_width > 0.0) || !std::isfinite(min_width))
+    return fail("min_width must be > 0 and finite");
+  if (!(learning_rate > 0.0) || !std::isfinite(learning_rate)) {
+    return fail("learning_rate must be > 0 and finite");
+  }
+  if (epochs < 0) return fail("epochs must be >= 0");
+  if (!(goal >= 0.0) || !std::isfinite(goal)) return fail("goal must be >= 0 and finite");
+  return true;
+}
+
+bool TrainingSummary::usable() const {
+  if (!solution_usable || train_rmse.empty()) return false;
+  return all_finite(train_rmse);
+}
+
+template <int kInputs, int kSets, int kOutputs>
+FnnTrainingResult<kInputs, kSets, kOutputs> train_fnn(
+    const std::vector<std::array<double, kInputs>>& inputs,
+    const std::vector<std::array<double, kOutputs>>& targets,
+    const FnnTrainingOptions& options) {
+  Trainer<kInputs, kSets, kOutputs> trainer(inputs, targets, options);
+  return trainer.run();
+}
+
+PaperSamples paper_samples(const std::vector<io::DatasetRow>& rows) {
+  PaperSamples s;
+  s.inputs.reserve(rows.size());
+  s.targets.reserve(rows.size());
+  for (const io::DatasetRow& r : rows) {
+    s.inputs.push_back({r.pv_mm_s, r.pd_mm, r.av_mm_s, r.ad_mm});
+    s.targets.push_back({r.mpe_um, r.rpe_um, r.mae_um, r.rae_um});
+  }
+  return s;
+}
+
+std::vector<std::string> paper_input_names() { return {"PV", "PD", "AV", "AD"}; }
+
+template FnnTrainingResult<4, 3, 4> train_fnn<4, 3, 4>(const std::vector<std::array<double, 4>>&,
+                                                       const std::vector<std::array<double, 4>>&,
+                                                       const FnnTrainingOptions&);
+template FnnTrainingResult<4, 3, 1> train_fnn<4, 3, 1>(const std::vector<std::array<double, 4>>&,
+                                                       const std::vector<std::array<double, 1>>&,
+                                                       const FnnTrainingOptions&);
+template FnnTrainingResult<1, 3, 1> train_fnn<1, 3, 1>(const std::vector<std::array<double, 1>>&,
+                                                       const std::vector<std::array<double, 1>>&,
+                                                       const FnnTrainingOptions&);
+template FnnTrainingResult<2, 3, 1> train_fnn<2, 3, 1>(const std::vector<std::array<double, 2>>&,
+                                                       const std::vector<std::array<double, 1>>&,
+                                                       const FnnTrainingOptions&);
+template FnnTrainingResult<2, 3, 2> train_fnn<2, 3, 2>(const std::vector<std::array<double, 2>>&,
+                                                       const std::vector<std::array<double, 2>>&,
+                                                       const FnnTrainingOptions&);
+template FnnTrainingResult<2, 2, 1> train_fnn<2, 2, 1>(const std::vector<std::array<double, 2>>&,
+                                                       const std::vector<std::array<double, 1>>&,
+                                                       const FnnTrainingOptions&);
+
+}  // namespace cmmcomp::training

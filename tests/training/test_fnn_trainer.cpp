@@ -1,1 +1,543 @@
-// placeholder: written by the trainer pass
+// SPDX-License-Identifier: MIT
+/// @file Tests of the Ceres trainer of the T-S network (training/fnn_trainer.hpp).
+#include <ceres/ceres.h>
+#include <ceres/dynamic_autodiff_cost_function.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/training/fnn_trainer.hpp>
+#include <cstdint>
+#include <cstring>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "support/test_seed.hpp"
+
+namespace cmmcomp::training {
+namespace {
+
+/// Portable generator for test data (same as the trainer's: SplitMix64).
+struct Rng {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  double uniform(double lo = 0.0, double hi = 1.0) {
+    return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53;
+  }
+  double normal() {
+    const double u1 = 1.0 - uniform();
+    const double u2 = uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+  }
+};
+
+template <std::size_t N>
+using Rows = std::vector<std::array<double, N>>;
+
+/// Raw input ranges used by the synthetic data (PV mm/s, PD mm, AV mm/s, AD mm).
+constexpr std::array<std::array<double, 2>, 4> kRanges{{{20, 120}, {10, 300}, {1, 10}, {0.5, 3}}};
+
+/// A smooth nonlinear function of the four normalised inputs (µm-sized).
+double smooth4(const std::array<double, 4>& u) {
+  return 8.0 + 6.0 * u[0] - 4.0 * u[1] * u[1] + 3.0 * std::sin(3.0 * u[2]) * u[3] +
+         2.0 * u[0] * u[1];
+}
+
+/// n random samples of 4 inputs in kRanges; `u` receives the normalised values.
+Rows<4> random_inputs4(Rng& rng, std::size_t n, Rows<4>* u) {
+  Rows<4> x(n);
+  if (u != nullptr) u->resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t i = 0; i < 4; ++i) {
+      const double v = rng.uniform();
+      x[k][i] = kRanges[i][0] + v * (kRanges[i][1] - kRanges[i][0]);
+      if (u != nullptr) (*u)[k][i] = v;
+    }
+  }
+  return x;
+}
+
+double rms(const std::vector<double>& e) {
+  double s = 0;
+  for (double v : e) s += v * v;
+  return std::sqrt(s / static_cast<double>(e.size()));
+}
+
+// --- Recovery of a known network -------------------------------------------------------------
+
+TEST(FnnTrainer, RecoversKnownNetwork) {
+  SCOPED_TRACE(test::seed_message());
+  Rng rng{test::seed()};
+  // Truth: a 2-input, 3-set, 2-output network on x0 ∈ [10, 200], x1 ∈ [1, 5], premise within
+  // ±0.05 of the trainer's initialisation (centres 0, .5, 1; widths .5), random consequents.
+  using Model = fuzzy::TskModel<double, 2, 3, 2>;
+  Model truth;
+  truth.ranges = {fuzzy::InputRange{10, 200}, fuzzy::InputRange{1, 5}};
+  for (int i = 0; i < 2; ++i) {
+    for (int s = 0; s < 3; ++s) {
+      truth.params.centre(i, s) = 0.5 * s + rng.uniform(-0.05, 0.05);
+      truth.params.width(i, s) = 0.5 + rng.uniform(-0.05, 0.05);
+    }
+  }
+  for (int o = 0; o < 2; ++o) {
+    for (int j = 0; j < Model::kRules; ++j) {
+      for (int t = 0; t < 3; ++t) truth.params.consequent(o, j, t) = rng.uniform(-10.0, 10.0);
+    }
+  }
+  // A 9 × 9 grid (corners included, so the data ranges are the true ranges).
+  Rows<2> x;
+  Rows<2> y;
+  for (int a = 0; a < 9; ++a) {
+    for (int b = 0; b < 9; ++b) {
+      const std::array<double, 2> v{10.0 + 190.0 * a / 8.0, 1.0 + 4.0 * b / 8.0};
+      std::array<double, 2> out{};
+      ASSERT_EQ(fuzzy::evaluate(truth, v, out, fuzzy::DomainPolicy::kReject), Status::kOk);
+      x.push_back(v);
+      y.push_back(out);
+    }
+  }
+  FnnTrainingOptions options;
+  options.lambda = 1e-9;
+  options.max_iterations = 25;
+  const auto result = train_fnn<2, 3, 2>(x, y, options);
+  ASSERT_TRUE(result.summary.usable()) << result.summary.message;
+  EXPECT_DOUBLE_EQ(result.model.ranges[0].lo, 10.0);
+  EXPECT_DOUBLE_EQ(result.model.ranges[1].hi, 5.0);
+  EXPECT_TRUE(fuzzy::validate(result.model));
+
+  // Predictions at 200 fresh random points: max error below 1 % of the target spread.
+  double spread = 0, max_err = 0;
+  for (const auto& v : y) spread = std::max({spread, std::abs(v[0]), std::abs(v[1])});
+  for (int k = 0; k < 200; ++k) {
+    const std::array<double, 2> v{rng.uniform(10, 200), rng.uniform(1, 5)};
+    std::array<double, 2> want{}, got{};
+    ASSERT_EQ(fuzzy::evaluate(truth, v, want, fuzzy::DomainPolicy::kReject), Status::kOk);
+    ASSERT_EQ(fuzzy::evaluate(result.model, v, got, fuzzy::DomainPolicy::kReject), Status::kOk);
+    for (std::size_t o = 0; o < 2; ++o) max_err = std::max(max_err, std::abs(want[o] - got[o]));
+  }
+  EXPECT_LT(max_err, 0.01 * spread) << "spread " << spread << ", " << result.summary.message;
+  EXPECT_LT(result.summary.train_rmse[0], 1e-3 * spread);
+  EXPECT_LE(result.summary.train_rmse[0], result.summary.init_train_rmse[0]);
+}
+
+// --- Ridge initialisation and cross-validation -----------------------------------------------
+
+TEST(FnnTrainer, RidgeInitAloneBeatsConstantPredictor) {
+  SCOPED_TRACE(test::seed_message());
+  Rng rng{test::seed() + 1};
+  Rows<4> u_train, u_test;
+  const Rows<4> x_train = random_inputs4(rng, 54, &u_train);
+  const Rows<4> x_test = random_inputs4(rng, 300, &u_test);
+  Rows<1> y_train;
+  double mean = 0;
+  for (const auto& u : u_train) {
+    y_train.push_back({smooth4(u)});
+    mean += smooth4(u) / 54.0;
+  }
+  FnnTrainingOptions options;
+  options.max_iterations = 0;  // the ridge initialisation alone (PaperNetwork, 429 parameters)
+  const auto result = train_fnn<4, 3, 1>(x_train, y_train, options);
+  ASSERT_TRUE(result.summary.usable());
+  EXPECT_EQ(result.summary.iterations, 0);
+  std::vector<double> e_model, e_const;
+  for (std::size_t k = 0; k < x_test.size(); ++k) {
+    std::array<double, 1> y{};
+    // Random test points may fall just outside the training min/max: extrapolate.
+    ASSERT_TRUE(ok(fuzzy::evaluate(result.model, x_test[k], y, fuzzy::DomainPolicy::kExtrapolate)));
+    e_model.push_back(y[0] - smooth4(u_test[k]));
+    e_const.push_back(mean - smooth4(u_test[k]));
+  }
+  EXPECT_LT(rms(e_model), 0.35 * rms(e_const)) << rms(e_model) << " vs " << rms(e_const);
+  EXPECT_LT(result.summary.cv_rmse[0], 0.5 * rms(e_const));
+}
+
+TEST(FnnTrainer, CrossValidationChoosesPositiveLambdaWithNoise) {
+  SCOPED_TRACE(test::seed_message());
+  Rng rng{test::seed() + 2};
+  Rows<4> u;
+  const Rows<4> x = random_inputs4(rng, 54, &u);
+  Rows<1> y;
+  for (const auto& v : u) y.push_back({smooth4(v) + 1.5 * rng.normal()});
+  FnnTrainingOptions options;
+  options.max_iterations = 0;
+  options.lambda_grid = {0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1e0, 1e1};
+  const auto result = train_fnn<4, 3, 1>(x, y, options);
+  ASSERT_TRUE(result.summary.usable());
+  ASSERT_EQ(result.summary.cv_mse_grid.size(), options.lambda_grid.size());
+  // 429 parameters against 54 noisy samples: the unregularised fit interpolates the noise.
+  EXPECT_GE(result.summary.lambda, 1e-4);
+  for (double m : result.summary.cv_mse_grid) EXPECT_TRUE(std::isfinite(m));
+  EXPECT_GT(result.summary.cv_mse_grid[0], result.summary.cv_mse_grid[4]);
+  ASSERT_EQ(result.summary.cv_rmse.size(), 1u);
+  EXPECT_TRUE(std::isfinite(result.summary.cv_rmse[0]));
+  EXPECT_GT(result.summary.cv_rmse[0], 0.0);
+}
+
+TEST(FnnTrainer, SharedPremiseInitMatchesSeparateNetworks) {
+  // With the premise at the initialisation, output o of a multi-output network is exactly the
+  // single-output network trained on output o.
+  Rng rng{test::seed() + 3};
+  Rows<2> x;
+  Rows<2> y2;
+  Rows<1> ya, yb;
+  for (int k = 0; k < 30; ++k) {
+    const double a = rng.uniform(0, 4), b = rng.uniform(-1, 1);
+    x.push_back({a, b});
+    y2.push_back({std::sin(a) + b, 100.0 * a * b});
+    ya.push_back({y2.back()[0]});
+    yb.push_back({y2.back()[1]});
+  }
+  FnnTrainingOptions options;
+  options.max_iterations = 0;
+  options.lambda = 1e-3;
+  const auto multi = train_fnn<2, 3, 2>(x, y2, options);
+  const auto one = train_fnn<2, 3, 1>(x, ya, options);
+  const auto two = train_fnn<2, 3, 1>(x, yb, options);
+  for (int j = 0; j < 9; ++j) {
+    for (int t = 0; t < 3; ++t) {
+      EXPECT_NEAR(
+          multi.model.params.consequent(0, j, t), one.model.params.consequent(0, j, t), 1e-9);
+      EXPECT_NEAR(
+          multi.model.params.consequent(1, j, t), two.model.params.consequent(0, j, t), 1e-7);
+    }
+  }
+}
+
+// --- Determinism -----------------------------------------------------------------------------
+
+template <int kI, int kS, int kO>
+bool bit_identical(const fuzzy::TskModel<double, kI, kS, kO>& a,
+                   const fuzzy::TskModel<double, kI, kS, kO>& b) {
+  return std::memcmp(a.params.values.data(), b.params.values.data(), sizeof(a.params.values)) == 0;
+}
+
+TEST(FnnTrainer, SameSeedGivesBitIdenticalParameters) {
+  Rng rng{test::seed() + 4};
+  Rows<2> x;
+  Rows<2> y;
+  for (int k = 0; k < 40; ++k) {
+    const double a = rng.uniform(0, 1), b = rng.uniform(0, 1);
+    x.push_back({a, b});
+    y.push_back({a * a + 0.1 * rng.normal(), std::cos(3 * b) + 0.1 * rng.normal()});
+  }
+  FnnTrainingOptions options;
+  options.seed = 77;
+  options.max_iterations = 5;
+  const auto r1 = train_fnn<2, 3, 2>(x, y, options);
+  const auto r2 = train_fnn<2, 3, 2>(x, y, options);
+  EXPECT_TRUE(bit_identical(r1.model, r2.model));
+  EXPECT_EQ(r1.summary.lambda, r2.summary.lambda);
+  EXPECT_EQ(r1.summary.cv_mse_grid, r2.summary.cv_mse_grid);
+  EXPECT_EQ(r1.summary.final_cost, r2.summary.final_cost);
+
+  options.method = FnnMethod::kGradientDescent;
+  options.epochs = 20;
+  const auto g1 = train_fnn<2, 3, 2>(x, y, options);
+  const auto g2 = train_fnn<2, 3, 2>(x, y, options);
+  EXPECT_TRUE(bit_identical(g1.model, g2.model));
+  options.seed = 78;  // another seed: another random start
+  const auto g3 = train_fnn<2, 3, 2>(x, y, options);
+  EXPECT_FALSE(bit_identical(g1.model, g3.model));
+}
+
+// --- The paper's gradient descent ------------------------------------------------------------
+
+TEST(FnnTrainer, GradientDescentBaselineReducesCost) {
+  Rng rng{test::seed() + 5};
+  Rows<2> x;
+  Rows<1> y;
+  for (int k = 0; k < 30; ++k) {
+    const double a = rng.uniform(0, 1), b = rng.uniform(0, 1);
+    x.push_back({a, b});
+    y.push_back({std::sin(3 * a) + b});
+  }
+  FnnTrainingOptions options;
+  options.method = FnnMethod::kGradientDescent;
+  options.epochs = 150;
+  options.goal = 0.0;  // unreachable: runs every epoch
+  int calls = 0;
+  bool decreasing = true;
+  double last = std::numeric_limits<double>::infinity();
+  options.progress = [&](int, double cost) {
+    ++calls;
+    decreasing = decreasing && cost < last;
+    last = cost;
+  };
+  const auto r = train_fnn<2, 3, 1>(x, y, options);
+  ASSERT_TRUE(r.summary.usable()) << r.summary.message;
+  EXPECT_EQ(r.summary.method, FnnMethod::kGradientDescent);
+  EXPECT_EQ(r.summary.iterations, 150);
+  EXPECT_FALSE(r.summary.converged);
+  EXPECT_EQ(calls, 151);
+  // The paper's β = 0.001 is slow but steady: the cost falls at every epoch.
+  EXPECT_TRUE(decreasing);
+  EXPECT_LT(r.summary.final_cost, 0.75 * r.summary.initial_cost);
+  EXPECT_EQ(r.summary.lambda, 0.0);  // the paper has no ridge
+}
+
+TEST(FnnTrainer, GradientDescentStopsAtReachableGoal) {
+  Rng rng{test::seed() + 6};
+  Rows<2> x;
+  Rows<1> y;
+  for (int k = 0; k < 30; ++k) {
+    const double a = rng.uniform(0, 1), b = rng.uniform(0, 1);
+    x.push_back({a, b});
+    y.push_back({2 * a + b});
+  }
+  FnnTrainingOptions options;
+  options.method = FnnMethod::kGradientDescent;
+  options.goal = 0.2;  // normalised MSE; a constant predictor has 1
+  options.epochs = 1000;
+  options.learning_rate = 0.005;  // faster than the paper's 0.001, to keep the test short
+  const auto r = train_fnn<2, 3, 1>(x, y, options);
+  ASSERT_TRUE(r.summary.usable()) << r.summary.message;
+  EXPECT_TRUE(r.summary.converged) << r.summary.message;
+  EXPECT_LT(r.summary.iterations, 1000);
+  // Normalised MSE ≤ goal ⇔ raw RMSE ≤ √goal · std.
+  double mean = 0, var = 0;
+  for (const auto& v : y) mean += v[0] / 30.0;
+  for (const auto& v : y) var += (v[0] - mean) * (v[0] - mean) / 30.0;
+  EXPECT_LE(r.summary.train_rmse[0], std::sqrt(0.2 * var) * (1 + 1e-9));
+}
+
+// --- Jacobian of the residual ----------------------------------------------------------------
+
+template <int kI, int kS>
+void check_gradient(std::uint64_t seed) {
+  using Residual = FnnSampleResidual<kI, kS>;
+  Rng rng{seed};
+  std::vector<double> premise(static_cast<std::size_t>(Residual::kPremiseSize));
+  for (int i = 0; i < kI; ++i) {
+    for (int s = 0; s < kS; ++s) {
+      premise[static_cast<std::size_t>(i * kS + s)] = rng.uniform(-0.2, 1.2);
+      premise[static_cast<std::size_t>(kI * kS + i * kS + s)] = rng.uniform(0.2, 0.8);
+    }
+  }
+  std::vector<std::vector<double>> rules(static_cast<std::size_t>(Residual::kRules),
+                                         std::vector<double>(Residual::kTerms));
+  for (auto& r : rules)
+    for (double& v : r) v = rng.uniform(-2, 2);
+  auto* functor = new Residual;
+  for (int i = 0; i < kI; ++i) functor->input[static_cast<std::size_t>(i)] = rng.uniform(-0.1, 1.1);
+  functor->target = 0.3;
+  ceres::DynamicAutoDiffCostFunction<Residual, kFnnJetStride> cost(functor);
+  cost.AddParameterBlock(Residual::kPremiseSize);
+  for (int j = 0; j < Residual::kRules; ++j) cost.AddParameterBlock(Residual::kTerms);
+  cost.SetNumResiduals(1);
+
+  std::vector<double*> blocks{premise.data()};
+  for (auto& r : rules) blocks.push_back(r.data());
+  std::vector<std::vector<double>> jac(blocks.size());
+  std::vector<double*> jac_ptr;
+  jac[0].resize(premise.size());
+  for (std::size_t b = 1; b < blocks.size(); ++b) jac[b].resize(Residual::kTerms);
+  for (auto& j : jac) jac_ptr.push_back(j.data());
+  double r0 = 0;
+  ASSERT_TRUE(cost.Evaluate(blocks.data(), &r0, jac_ptr.data()));
+
+  // Central differences, h = 1e-6 (truncation O(h²) ≈ 1e-12, rounding ≈ 1e-10): agreement to
+  // 1e-7 · max(1, |J|).
+  const double h = 1e-6;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    for (std::size_t k = 0; k < jac[b].size(); ++k) {
+      const double keep = blocks[b][k];
+      double rp = 0, rm = 0;
+      blocks[b][k] = keep + h;
+      ASSERT_TRUE(cost.Evaluate(blocks.data(), &rp, nullptr));
+      blocks[b][k] = keep - h;
+      ASSERT_TRUE(cost.Evaluate(blocks.data(), &rm, nullptr));
+      blocks[b][k] = keep;
+      const double fd = (rp - rm) / (2 * h);
+      EXPECT_NEAR(jac[b][k], fd, 1e-7 * std::max(1.0, std::abs(fd))) << "block " << b << " k " << k;
+    }
+  }
+}
+
+TEST(FnnSampleResidual, AutoDiffJacobianMatchesCentralDifferences) {
+  SCOPED_TRACE(test::seed_message());
+  check_gradient<2, 3>(test::seed());
+  check_gradient<4, 3>(test::seed() + 1);  // the paper's network, 429 parameters
+}
+
+TEST(FnnSampleResidual, ResidualIsTheRtForwardPass) {
+  // The residual equals evaluate() of the same parameters (normalised ranges [0, 1]) − target.
+  Rng rng{test::seed() + 7};
+  fuzzy::TskModel<double, 2, 3, 1> m;
+  for (double& v : m.params.values) v = rng.uniform(0.2, 1.0);
+  FnnSampleResidual<2, 3> r;
+  r.input = {0.3, 0.8};
+  r.target = 0.25;
+  std::vector<const double*> blocks{m.params.data()};
+  for (int j = 0; j < 9; ++j) blocks.push_back(m.params.data() + 12 + 3 * j);
+  double res = 0;
+  ASSERT_TRUE(r(blocks.data(), &res));
+  std::array<double, 1> y{};
+  ASSERT_EQ(fuzzy::evaluate(m, {0.3, 0.8}, y, fuzzy::DomainPolicy::kReject), Status::kOk);
+  EXPECT_EQ(res, y[0] - 0.25);
+}
+
+// --- Errors ----------------------------------------------------------------------------------
+
+Rows<2> line_inputs(int n) {
+  Rows<2> x;
+  for (int k = 0; k < n; ++k) x.push_back({static_cast<double>(k), static_cast<double>(k * k)});
+  return x;
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no ConfigError";
+}
+
+TEST(FnnTrainer, RejectsFewerSamplesThanFolds) {
+  const Rows<2> x = line_inputs(4);
+  const Rows<1> y(4, {1.0});
+  const std::string m = message_of([&] { train_fnn<2, 3, 1>(x, y); });
+  EXPECT_NE(m.find("4 samples are fewer than the 5 cross-validation folds"), std::string::npos)
+      << m;
+}
+
+TEST(FnnTrainer, RejectsNonFiniteData) {
+  const Rows<2> x = line_inputs(10);
+  Rows<1> y(10, {1.0});
+  y[3][0] = std::numeric_limits<double>::quiet_NaN();
+  std::string m = message_of([&] { train_fnn<2, 3, 1>(x, y); });
+  EXPECT_NE(m.find("sample 3: target 0 is not finite"), std::string::npos) << m;
+  Rows<2> xi = line_inputs(10);
+  xi[5][1] = std::numeric_limits<double>::infinity();
+  const Rows<1> y1(10, {1.0});
+  m = message_of([&] { train_fnn<2, 3, 1>(xi, y1); });
+  EXPECT_NE(m.find("sample 5: input 1 is not finite"), std::string::npos) << m;
+}
+
+TEST(FnnTrainer, RejectsDegenerateInputNamingIt) {
+  Rows<4> x(10, {1.0, 2.0, 3.0, 4.0});
+  for (int k = 0; k < 10; ++k) {
+    x[static_cast<std::size_t>(k)][0] = k;
+    x[static_cast<std::size_t>(k)][1] = k * 2.0;
+    x[static_cast<std::size_t>(k)][3] = k + 0.5;
+  }
+  const Rows<1> y(10, {1.0});
+  FnnTrainingOptions options;
+  options.input_names = paper_input_names();
+  const std::string m = message_of([&] { train_fnn<4, 3, 1>(x, y, options); });
+  EXPECT_NE(m.find("input 'AV' is constant"), std::string::npos) << m;
+  options.input_names.clear();
+  const std::string m2 = message_of([&] { train_fnn<4, 3, 1>(x, y, options); });
+  EXPECT_NE(m2.find("input 2 is constant"), std::string::npos) << m2;
+}
+
+TEST(FnnTrainer, RejectsEmptyAndMismatchedData) {
+  EXPECT_NE(message_of([] { train_fnn<2, 3, 1>({}, {}); }).find("no samples"), std::string::npos);
+  const Rows<2> x = line_inputs(10);
+  const Rows<1> y(9, {1.0});
+  EXPECT_NE(message_of([&] { train_fnn<2, 3, 1>(x, y); }).find("10 input rows but 9 target rows"),
+            std::string::npos);
+}
+
+TEST(FnnTrainingOptions, ValidatesEveryField) {
+  std::string why;
+  EXPECT_TRUE(FnnTrainingOptions{}.is_valid(&why)) << why;
+  const auto invalid = [](const std::function<void(FnnTrainingOptions&)>& change) {
+    FnnTrainingOptions o;
+    change(o);
+    std::string w;
+    const bool valid = o.is_valid(&w);
+    return !valid && !w.empty();
+  };
+  EXPECT_TRUE(invalid([](auto& o) { o.folds = 1; }));
+  EXPECT_TRUE(invalid([](auto& o) { o.lambda = std::numeric_limits<double>::quiet_NaN(); }));
+  EXPECT_TRUE(invalid([](auto& o) { o.lambda_grid.clear(); }));
+  EXPECT_TRUE(invalid([](auto& o) { o.lambda_grid = {1e-3, -1.0}; }));
+  EXPECT_TRUE(invalid([](auto& o) { o.max_iterations = -1; }));
+  EXPECT_TRUE(invalid([](auto& o) { o.min_width = 0.0; }));
+  EXPECT_TRUE(invalid([](auto& o) { o.learning_rate = 0.0; }));
+  EXPECT_TRUE(invalid([](auto& o) { o.epochs = -1; }));
+  EXPECT_TRUE(invalid([](auto& o) { o.goal = -0.1; }));
+  EXPECT_TRUE(invalid([](auto& o) { o.method = static_cast<FnnMethod>(7); }));
+  FnnTrainingOptions fixed;
+  fixed.lambda = 0.1;
+  fixed.lambda_grid.clear();  // not needed with a fixed λ
+  EXPECT_TRUE(fixed.is_valid(nullptr));
+
+  FnnTrainingOptions bad;
+  bad.folds = 0;
+  const Rows<2> x = line_inputs(10);
+  const Rows<1> y(10, {1.0});
+  EXPECT_NE(message_of([&] { train_fnn<2, 3, 1>(x, y, bad); }).find("FNN training options: folds"),
+            std::string::npos);
+}
+
+// --- Dataset rows and the paper's sizes ------------------------------------------------------
+
+TEST(FnnTrainer, PaperSamplesFromDatasetRows) {
+  io::DatasetRow r;
+  r.pv_mm_s = 1;
+  r.pd_mm = 2;
+  r.av_mm_s = 3;
+  r.ad_mm = 4;
+  r.mpe_um = 5;
+  r.rpe_um = -6;
+  r.mae_um = 7;
+  r.rae_um = -8;
+  const PaperSamples s = paper_samples({r, r});
+  ASSERT_EQ(s.inputs.size(), 2u);
+  EXPECT_EQ(s.inputs[1], (std::array<double, 4>{1, 2, 3, 4}));
+  EXPECT_EQ(s.targets[0], (std::array<double, 4>{5, -6, 7, -8}));
+  EXPECT_STREQ(to_string(FnnMethod::kGradientDescent), "gradient-descent");
+}
+
+TEST(FnnTrainer, PaperSizesTiming) {
+#ifndef NDEBUG
+  GTEST_SKIP() << "timing is measured in optimised builds only";
+#else
+  Rng rng{test::seed() + 8};
+  Rows<4> u;
+  const Rows<4> x = random_inputs4(rng, 54, &u);
+  Rows<4> y;
+  for (const auto& v : u) {
+    const double f = smooth4(v);
+    y.push_back({f + 1.3 * rng.normal(),
+                 0.3 * f - 2 + 0.46 * rng.normal(),
+                 8 - 0.5 * f * v[2] + 0.6 * rng.normal(),
+                 v[3] * v[3] * 4 - 2 + 0.3 * rng.normal()});
+  }
+  FnnTrainingOptions options;
+  options.input_names = paper_input_names();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t o = 0; o < 4; ++o) {
+    Rows<1> yo;
+    for (const auto& v : y) yo.push_back({v[o]});
+    const auto r = train_fnn<4, 3, 1>(x, yo, options);
+    EXPECT_TRUE(r.summary.usable()) << r.summary.message;
+    std::cout << "PaperNetwork output " << o << ": " << r.summary.iterations << " LM iterations, λ "
+              << r.summary.lambda << ", train RMSE " << r.summary.train_rmse[0] << " (init "
+              << r.summary.init_train_rmse[0] << "), CV RMSE " << r.summary.cv_rmse[0] << ", "
+              << r.summary.wall_seconds << " s; " << r.summary.message << "\n";
+  }
+  const double four = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto multi = train_fnn<4, 3, 4>(x, y, options);
+  EXPECT_TRUE(multi.summary.usable()) << multi.summary.message;
+  std::cout << "four PaperNetwork fits: " << four
+            << " s; PaperMultiNetwork: " << multi.summary.wall_seconds << " s ("
+            << multi.summary.iterations << " LM iterations, λ " << multi.summary.lambda << ")\n";
+  EXPECT_LT(four, 10.0);  // target ≤ 2 s; generous bound for a loaded CI machine
+  EXPECT_LT(multi.summary.wall_seconds, 10.0);
+#endif
+}
+
+}  // namespace
+}  // namespace cmmcomp::training
