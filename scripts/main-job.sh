@@ -10,8 +10,9 @@ mkdir -p "$out"
 
 bash scripts/install-deps.sh
 cmake --preset release >/dev/null
-cmake --build --preset release --target cmmcomp-sim
+cmake --build --preset release --target cmmcomp-sim cmmcomp-train
 sim="$here/build/release/tools/cmmcomp-sim/cmmcomp-sim"
+train="$here/build/release/tools/cmmcomp-train/cmmcomp-train"
 
 echo
 echo "== 1. The paper's baseline probing move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10) =="
@@ -21,5 +22,10 @@ echo "== 2. The digital twin (embedded default machine) next to the paper's Tabl
 "$sim" paper
 "$sim" move --trace "$out/baseline_trace.csv" >/dev/null
 "$sim" dataset --design l18 --repeats 3 --noise --seed 1 -o "$out/l18x3.csv"
+echo
+echo "== 3. T-S fuzzy network: train on the L18 x 3 set, test on 270 Latin-hypercube moves =="
+"$sim" dataset --design lhs --samples 270 --noise --seed 2 -o "$out/lhs270.csv"
+"$train" fit "$out/l18x3.csv" -o "$out/model.json"
+"$train" eval "$out/model.json" "$out/lhs270.csv" --plot "$out/fig5_compensation.png"
 echo
 echo "main job done; outputs in $out"

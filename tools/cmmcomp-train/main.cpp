@@ -1,0 +1,261 @@
+// SPDX-License-Identifier: MIT
+/// @file cmmcomp-train: train the T-S network on a dataset, evaluate it (Table 5), export it.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/paper_reference.hpp>
+#include <cmmcomp/training/fnn_trainer.hpp>
+#include <cmmcomp/version.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+using cmmcomp::fuzzy::PaperMultiNetwork;
+using PaperModelFile = cmmcomp::io::ModelFile<4, 3, 4>;
+
+constexpr const char* kOutputNames[4] = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
+constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
+
+struct FitCommand {
+  std::string data, output, method = "lm";
+  int folds = 5;
+  std::uint64_t seed = 1;
+  double lambda = -1;
+  int max_iterations = 30;
+};
+
+int run_fit(const FitCommand& cmd) {
+  using namespace cmmcomp::training;
+  const auto rows = cmmcomp::io::read_dataset_csv(cmd.data);
+  if (rows.size() < static_cast<std::size_t>(cmd.folds)) {
+    throw cmmcomp::ConfigError(fmt::format("{}: {} samples, fewer than the {} folds", cmd.data,
+                                           rows.size(), cmd.folds));
+  }
+  const PaperSamples samples = paper_samples(rows);
+  FnnTrainingOptions options;
+  options.method = cmd.method == "gd" ? FnnMethod::kGradientDescent : FnnMethod::kLevenbergMarquardt;
+  options.folds = cmd.folds;
+  options.seed = cmd.seed;
+  options.lambda = cmd.lambda;
+  options.max_iterations = cmd.max_iterations;
+  options.input_names = paper_input_names();
+  if (isatty(fileno(stderr)) != 0) {
+    options.progress = [](int iteration, double cost) {
+      std::fprintf(stderr, "\riteration %4d  cost %.6g", iteration, cost);
+    };
+  }
+  const auto result = train_fnn<4, 3, 4>(samples.inputs, samples.targets, options);
+  if (options.progress) std::fputc('\n', stderr);
+  const TrainingSummary& s = result.summary;
+  std::printf("trained %s on %zu samples of %s in %.2f s: %s\n", to_string(s.method),
+              rows.size(), cmd.data.c_str(), s.wall_seconds, s.message.c_str());
+  std::printf("lambda %.3g (%s), %d iterations, cost %.6g -> %.6g\n", s.lambda,
+              cmd.lambda < 0 ? "chosen by cross-validation" : "fixed", s.iterations,
+              s.initial_cost, s.final_cost);
+  std::printf("%-6s %14s %14s\n", "", "train RMSE um", "CV RMSE um");
+  for (std::size_t o = 0; o < 4; ++o) {
+    std::printf("%-6s %14.4f %14.4f\n", kParamNames[o], s.train_rmse[o], s.cv_rmse[o]);
+  }
+  if (!s.usable()) {
+    std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n",
+                 s.message.c_str());
+    return 1;
+  }
+  PaperModelFile file;
+  file.model = result.model;
+  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
+  file.input_units = {"mm/s", "mm", "mm/s", "mm"};
+  for (std::size_t o = 0; o < 4; ++o) {
+    file.output_names[o] = kOutputNames[o];
+    file.output_units[o] = "um";
+  }
+  file.training.data_file_sha256 = cmmcomp::io::sha256_file_hex(cmd.data);
+  file.training.method = to_string(s.method);
+  file.training.lambda = s.lambda;
+  file.training.cv_rmse = s.cv_rmse;
+  file.training.trained_at = cmmcomp::io::utc_timestamp_now();
+  file.training.seed = cmd.seed;
+  file.training.tool_version = std::string("cmmcomp-train ") + CMMCOMP_VERSION_STRING;
+  const std::string id = cmmcomp::io::save_model_file(cmd.output, file);
+  std::printf("wrote %s (model id %s)\n", cmd.output.c_str(), id.c_str());
+  return 0;
+}
+
+/// Table 5 of one parameter on a test set.
+struct Table5Row {
+  double mean_before = 0, mean_after = 0, reduction_pct = 0, var_after = 0, max_abs = 0;
+};
+
+int run_eval(const std::string& model_path, const std::string& data, bool json,
+             const std::string& plot) {
+  const PaperModelFile file = cmmcomp::io::load_model_file<4, 3, 4>(model_path);
+  const auto rows = cmmcomp::io::read_dataset_csv(data);
+  const auto samples = cmmcomp::training::paper_samples(rows);
+  const std::size_t n = rows.size();
+  std::array<std::vector<double>, 4> measured, predicted;
+  std::size_t outside = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    PaperMultiNetwork::RawOutput y{};
+    const cmmcomp::Status st = cmmcomp::fuzzy::evaluate(file.model, samples.inputs[i], y,
+                                                        cmmcomp::fuzzy::DomainPolicy::kClamp);
+    if (!cmmcomp::ok(st)) {
+      throw cmmcomp::Error(fmt::format("{}: row {}: the model cannot evaluate it ({})", data,
+                                       i + 1, cmmcomp::to_string(st)));
+    }
+    if (st == cmmcomp::Status::kOutsideDomain) ++outside;
+    for (std::size_t o = 0; o < 4; ++o) {
+      measured[o].push_back(samples.targets[i][o]);
+      predicted[o].push_back(y[o]);
+    }
+  }
+  std::array<Table5Row, 4> t{};
+  for (std::size_t o = 0; o < 4; ++o) {
+    double sum_before = 0, sum_after = 0, sum_r = 0, sum_r2 = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = measured[o][i] - predicted[o][i];
+      sum_before += std::fabs(measured[o][i]);
+      sum_after += std::fabs(r);
+      sum_r += r;
+      sum_r2 += r * r;
+      t[o].max_abs = std::max(t[o].max_abs, std::fabs(r));
+    }
+    t[o].mean_before = sum_before / static_cast<double>(n);
+    t[o].mean_after = sum_after / static_cast<double>(n);
+    t[o].reduction_pct = 100.0 * (t[o].mean_before - t[o].mean_after) / t[o].mean_before;
+    const double mean_r = sum_r / static_cast<double>(n);
+    t[o].var_after = sum_r2 / static_cast<double>(n) - mean_r * mean_r;
+  }
+  if (json) {
+    nlohmann::json j;
+    const char* keys[4] = {"mpe", "rpe", "mae", "rae"};
+    for (std::size_t o = 0; o < 4; ++o) {
+      j[keys[o]] = {{"mean_before_um", t[o].mean_before},
+                    {"mean_after_um", t[o].mean_after},
+                    {"reduction_pct", t[o].reduction_pct},
+                    {"var_after_um2", t[o].var_after},
+                    {"max_abs_residual_um", t[o].max_abs}};
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("model %s on %s: %zu samples (%zu outside the training ranges, clamped)\n",
+                file.model_id.c_str(), data.c_str(), n, outside);
+    std::printf("Table 5 layout; in brackets the paper's Table 5\n");
+    std::printf("%-5s %20s %20s %20s %20s %12s\n", "", "mean before um", "mean after um",
+                "reduction %", "variance after um2", "max |res| um");
+    for (std::size_t o = 0; o < 4; ++o) {
+      std::printf("%-5s %11.3f (%6.3f) %11.3f (%6.3f) %11.1f (%6.1f) %11.3f (%6.3f) %12.3f\n",
+                  kParamNames[o], t[o].mean_before, cmmcomp::paper::kTable5MeanBefore[o],
+                  t[o].mean_after, cmmcomp::paper::kTable5MeanAfter[o], t[o].reduction_pct,
+                  cmmcomp::paper::kTable5Reduction[o], t[o].var_after,
+                  cmmcomp::paper::kTable5VarianceAfter[o], t[o].max_abs);
+    }
+  }
+  if (!plot.empty()) {
+    // The paper's Fig. 5: measured, predicted and residual for 50 test samples per parameter.
+    const std::string dat = plot + ".dat";
+    std::ofstream out(dat);
+    const std::size_t shown = std::min<std::size_t>(50, n);
+    for (std::size_t i = 0; i < shown; ++i) {
+      const std::size_t k = (i * n) / shown;  // spread over the test set, deterministic
+      out << i + 1;
+      for (std::size_t o = 0; o < 4; ++o) {
+        out << ' ' << measured[o][k] << ' ' << predicted[o][k] << ' '
+            << measured[o][k] - predicted[o][k];
+      }
+      out << '\n';
+    }
+    out.close();
+    const std::string gp = plot + ".gp";
+    std::ofstream g(gp);
+    g << "set terminal pngcairo size 1200,900 noenhanced\nset output '" << plot << "'\n"
+      << "set multiplot layout 2,2 title 'Measured, predicted and residual (" << shown
+      << " test samples)'\n";
+    for (std::size_t o = 0; o < 4; ++o) {
+      const std::size_t c = 2 + 3 * o;
+      g << "set title '" << kParamNames[o] << " [um]'\nset xlabel 'sample'\nset grid\n"
+        << "plot '" << dat << "' using 1:" << c << " with linespoints title 'measured', '' using 1:"
+        << c + 1 << " with linespoints title 'predicted', '' using 1:" << c + 2
+        << " with impulses lw 2 title 'residual'\n";
+    }
+    g << "unset multiplot\n";
+    g.close();
+    const std::string command = "gnuplot '" + gp + "'";
+    if (std::system(command.c_str()) != 0) {
+      throw cmmcomp::Error("gnuplot failed to draw " + plot + " (is gnuplot installed?)");
+    }
+    std::printf("wrote %s\n", plot.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"cmmcomp-train: train, evaluate and export the T-S fuzzy network"};
+  app.set_version_flag("--version", std::string("cmmcomp ") + CMMCOMP_VERSION_STRING);
+  app.require_subcommand(1);
+
+  FitCommand fit_cmd;
+  CLI::App* fit = app.add_subcommand("fit", "train on a dataset CSV, write a model file");
+  fit->add_option("data", fit_cmd.data, "training dataset (docs/dataset-csv.md)")->required();
+  fit->add_option("-o,--output", fit_cmd.output, "model file (JSON)")->required();
+  fit->add_option("--method", fit_cmd.method, "lm (Ceres) or gd (the paper's)")
+      ->check(CLI::IsMember({"lm", "gd"}))
+      ->capture_default_str();
+  fit->add_option("--folds", fit_cmd.folds, "cross-validation folds")
+      ->check(CLI::Range(2, 1000))
+      ->capture_default_str();
+  fit->add_option("--seed", fit_cmd.seed, "seed (folds, GD start)")->capture_default_str();
+  fit->add_option("--lambda", fit_cmd.lambda, "ridge weight (default: chosen by CV)");
+  fit->add_option("--max-iterations", fit_cmd.max_iterations, "LM iterations")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+
+  std::string model_path, data_path, plot_path, header_path, symbol = "cmmcomp_model";
+  bool json = false;
+  CLI::App* eval = app.add_subcommand("eval", "Table 5 of a model on a test dataset");
+  eval->add_option("model", model_path, "model file")->required();
+  eval->add_option("data", data_path, "test dataset")->required();
+  eval->add_flag("--json", json, "print one JSON object keyed mpe rpe mae rae");
+  eval->add_option("--plot", plot_path, "draw the paper's Fig. 5 to this PNG (gnuplot)");
+
+  CLI::App* exp = app.add_subcommand("export", "write a constexpr C++ header of a model");
+  exp->add_option("model", model_path, "model file")->required();
+  exp->add_option("--header", header_path, "output header")->required();
+  exp->add_option("--symbol", symbol, "C++ name of the model")->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    if (fit->parsed()) return run_fit(fit_cmd);
+    if (eval->parsed()) return run_eval(model_path, data_path, json, plot_path);
+    if (exp->parsed()) {
+      const PaperModelFile file = cmmcomp::io::load_model_file<4, 3, 4>(model_path);
+      cmmcomp::io::detail::write_text_file(header_path,
+                                           cmmcomp::io::export_model_header(file, symbol));
+      std::printf("wrote %s (model id %s)\n", header_path.c_str(), file.model_id.c_str());
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cmmcomp-train: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
