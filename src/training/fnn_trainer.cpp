@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cmmcomp/detail/splitmix64.hpp>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cstddef>
@@ -16,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include "ceres_progress.hpp"
+
 namespace cmmcomp::training {
 
 namespace {
@@ -24,27 +27,7 @@ using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-/// SplitMix64 (see the header): portable, bit-identical everywhere.
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() noexcept {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [0, 1) from the top 53 bits.
-  double uniform() noexcept { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) noexcept { return lo + (hi - lo) * uniform(); }
-  /// Uniform integer in [0, n), n > 0, by rejection (no modulo bias).
-  std::uint64_t below(std::uint64_t n) noexcept {
-    const std::uint64_t limit =
-        std::numeric_limits<std::uint64_t>::max() - std::numeric_limits<std::uint64_t>::max() % n;
-    std::uint64_t v = next();
-    while (v >= limit) v = next();
-    return v % n;
-  }
-};
+using cmmcomp::detail::SplitMix64;
 
 std::size_t sz(Index i) { return static_cast<std::size_t>(i); }
 
@@ -108,17 +91,7 @@ class RidgeCost final : public ceres::SizedCostFunction<kTerms, kTerms> {
   double s_;
 };
 
-class ProgressCallback final : public ceres::IterationCallback {
- public:
-  explicit ProgressCallback(const std::function<void(int, double)>& f) : f_(f) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (f_) f_(s.iteration, s.cost);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const std::function<void(int, double)>& f_;
-};
+using detail::ProgressCallback;
 
 /// Everything one training run works on.
 template <int kInputs, int kSets, int kOutputs>

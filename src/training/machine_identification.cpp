@@ -14,6 +14,8 @@
 #include <sstream>
 #include <thread>
 
+#include "ceres_progress.hpp"
+
 namespace cmmcomp::training {
 namespace {
 
@@ -214,18 +216,6 @@ class SimulationCost final : public ceres::CostFunction {
   int n_;
 };
 
-class ProgressCallback final : public ceres::IterationCallback {
- public:
-  explicit ProgressCallback(const std::function<void(int, double)>& f) : f_(f) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (f_) f_(s.iteration, s.cost);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const std::function<void(int, double)>& f_;
-};
-
 }  // namespace
 
 bool IdentificationOptions::is_valid(std::string* why) const {
@@ -302,7 +292,7 @@ IdentificationReport identify_machine(const Machine& start,
   solver.max_num_iterations = options.max_iterations;
   solver.minimizer_progress_to_stdout = false;
   solver.logging_type = ceres::SILENT;
-  ProgressCallback callback(options.progress);
+  detail::ProgressCallback callback(options.progress);
   solver.callbacks.push_back(&callback);
   solver.update_state_every_iteration = false;
   ceres::Solver::Summary summary;

@@ -1,17 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @file cmmcomp-train: train the T-S network on a dataset, evaluate it (Table 5), export it.
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <exception>
-#include <fstream>
-#include <string>
-#include <vector>
-
-#include <CLI/CLI.hpp>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
@@ -19,8 +13,13 @@
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cmmcomp/version.hpp>
-#include <fmt/format.h>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -35,19 +34,20 @@ struct FitCommand {
   int folds = 5;
   std::uint64_t seed = 1;
   double lambda = -1;
-  int max_iterations = 30;
+  int max_iterations = cmmcomp::training::FnnTrainingOptions{}.max_iterations;
 };
 
 int run_fit(const FitCommand& cmd) {
   using namespace cmmcomp::training;
   const auto rows = cmmcomp::io::read_dataset_csv(cmd.data);
   if (rows.size() < static_cast<std::size_t>(cmd.folds)) {
-    throw cmmcomp::ConfigError(fmt::format("{}: {} samples, fewer than the {} folds", cmd.data,
-                                           rows.size(), cmd.folds));
+    throw cmmcomp::ConfigError(
+        fmt::format("{}: {} samples, fewer than the {} folds", cmd.data, rows.size(), cmd.folds));
   }
   const PaperSamples samples = paper_samples(rows);
   FnnTrainingOptions options;
-  options.method = cmd.method == "gd" ? FnnMethod::kGradientDescent : FnnMethod::kLevenbergMarquardt;
+  options.method =
+      cmd.method == "gd" ? FnnMethod::kGradientDescent : FnnMethod::kLevenbergMarquardt;
   options.folds = cmd.folds;
   options.seed = cmd.seed;
   options.lambda = cmd.lambda;
@@ -61,18 +61,24 @@ int run_fit(const FitCommand& cmd) {
   const auto result = train_fnn<4, 3, 4>(samples.inputs, samples.targets, options);
   if (options.progress) std::fputc('\n', stderr);
   const TrainingSummary& s = result.summary;
-  std::printf("trained %s on %zu samples of %s in %.2f s: %s\n", to_string(s.method),
-              rows.size(), cmd.data.c_str(), s.wall_seconds, s.message.c_str());
-  std::printf("lambda %.3g (%s), %d iterations, cost %.6g -> %.6g\n", s.lambda,
-              cmd.lambda < 0 ? "chosen by cross-validation" : "fixed", s.iterations,
-              s.initial_cost, s.final_cost);
+  std::printf("trained %s on %zu samples of %s in %.2f s: %s\n",
+              to_string(s.method),
+              rows.size(),
+              cmd.data.c_str(),
+              s.wall_seconds,
+              s.message.c_str());
+  std::printf("lambda %.3g (%s), %d iterations, cost %.6g -> %.6g\n",
+              s.lambda,
+              cmd.lambda < 0 ? "chosen by cross-validation" : "fixed",
+              s.iterations,
+              s.initial_cost,
+              s.final_cost);
   std::printf("%-6s %14s %14s\n", "", "train RMSE um", "CV RMSE um");
   for (std::size_t o = 0; o < 4; ++o) {
     std::printf("%-6s %14.4f %14.4f\n", kParamNames[o], s.train_rmse[o], s.cv_rmse[o]);
   }
   if (!s.usable()) {
-    std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n",
-                 s.message.c_str());
+    std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n", s.message.c_str());
     return 1;
   }
   PaperModelFile file;
@@ -100,7 +106,9 @@ struct Table5Row {
   double mean_before = 0, mean_after = 0, reduction_pct = 0, var_after = 0, max_abs = 0;
 };
 
-int run_eval(const std::string& model_path, const std::string& data, bool json,
+int run_eval(const std::string& model_path,
+             const std::string& data,
+             bool json,
              const std::string& plot) {
   const PaperModelFile file = cmmcomp::io::load_model_file<4, 3, 4>(model_path);
   const auto rows = cmmcomp::io::read_dataset_csv(data);
@@ -110,11 +118,11 @@ int run_eval(const std::string& model_path, const std::string& data, bool json,
   std::size_t outside = 0;
   for (std::size_t i = 0; i < n; ++i) {
     PaperMultiNetwork::RawOutput y{};
-    const cmmcomp::Status st = cmmcomp::fuzzy::evaluate(file.model, samples.inputs[i], y,
-                                                        cmmcomp::fuzzy::DomainPolicy::kClamp);
+    const cmmcomp::Status st = cmmcomp::fuzzy::evaluate(
+        file.model, samples.inputs[i], y, cmmcomp::fuzzy::DomainPolicy::kClamp);
     if (!cmmcomp::ok(st)) {
-      throw cmmcomp::Error(fmt::format("{}: row {}: the model cannot evaluate it ({})", data,
-                                       i + 1, cmmcomp::to_string(st)));
+      throw cmmcomp::Error(fmt::format(
+          "{}: row {}: the model cannot evaluate it ({})", data, i + 1, cmmcomp::to_string(st)));
     }
     if (st == cmmcomp::Status::kOutsideDomain) ++outside;
     for (std::size_t o = 0; o < 4; ++o) {
@@ -152,16 +160,30 @@ int run_eval(const std::string& model_path, const std::string& data, bool json,
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("model %s on %s: %zu samples (%zu outside the training ranges, clamped)\n",
-                file.model_id.c_str(), data.c_str(), n, outside);
+                file.model_id.c_str(),
+                data.c_str(),
+                n,
+                outside);
     std::printf("Table 5 layout; in brackets the paper's Table 5\n");
-    std::printf("%-5s %20s %20s %20s %20s %12s\n", "", "mean before um", "mean after um",
-                "reduction %", "variance after um2", "max |res| um");
+    std::printf("%-5s %20s %20s %20s %20s %12s\n",
+                "",
+                "mean before um",
+                "mean after um",
+                "reduction %",
+                "variance after um2",
+                "max |res| um");
     for (std::size_t o = 0; o < 4; ++o) {
       std::printf("%-5s %11.3f (%6.3f) %11.3f (%6.3f) %11.1f (%6.1f) %11.3f (%6.3f) %12.3f\n",
-                  kParamNames[o], t[o].mean_before, cmmcomp::paper::kTable5MeanBefore[o],
-                  t[o].mean_after, cmmcomp::paper::kTable5MeanAfter[o], t[o].reduction_pct,
-                  cmmcomp::paper::kTable5Reduction[o], t[o].var_after,
-                  cmmcomp::paper::kTable5VarianceAfter[o], t[o].max_abs);
+                  kParamNames[o],
+                  t[o].mean_before,
+                  cmmcomp::paper::kTable5MeanBefore[o],
+                  t[o].mean_after,
+                  cmmcomp::paper::kTable5MeanAfter[o],
+                  t[o].reduction_pct,
+                  cmmcomp::paper::kTable5Reduction[o],
+                  t[o].var_after,
+                  cmmcomp::paper::kTable5VarianceAfter[o],
+                  t[o].max_abs);
     }
   }
   if (!plot.empty()) {
@@ -187,8 +209,9 @@ int run_eval(const std::string& model_path, const std::string& data, bool json,
     for (std::size_t o = 0; o < 4; ++o) {
       const std::size_t c = 2 + 3 * o;
       g << "set title '" << kParamNames[o] << " [um]'\nset xlabel 'sample'\nset grid\n"
-        << "plot '" << dat << "' using 1:" << c << " with linespoints title 'measured', '' using 1:"
-        << c + 1 << " with linespoints title 'predicted', '' using 1:" << c + 2
+        << "plot '" << dat << "' using 1:" << c
+        << " with linespoints title 'measured', '' using 1:" << c + 1
+        << " with linespoints title 'predicted', '' using 1:" << c + 2
         << " with impulses lw 2 title 'residual'\n";
     }
     g << "unset multiplot\n";
