@@ -2,9 +2,9 @@
 /// @file Forwards Ceres' per-iteration report to a plain (iteration, cost) callback.
 #pragma once
 
-#include <functional>
-
 #include <ceres/iteration_callback.h>
+
+#include <functional>
 
 namespace cmmcomp::training::detail {
 

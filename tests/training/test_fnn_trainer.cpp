@@ -5,13 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cstdint>
 #include <cstring>
-#include <iostream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -500,44 +498,7 @@ TEST(FnnTrainer, PaperSamplesFromDatasetRows) {
   EXPECT_STREQ(to_string(FnnMethod::kGradientDescent), "gradient-descent");
 }
 
-TEST(FnnTrainer, PaperSizesTiming) {
-#ifndef NDEBUG
-  GTEST_SKIP() << "timing is measured in optimised builds only";
-#else
-  Rng rng{test::seed() + 8};
-  Rows<4> u;
-  const Rows<4> x = random_inputs4(rng, 54, &u);
-  Rows<4> y;
-  for (const auto& v : u) {
-    const double f = smooth4(v);
-    y.push_back({f + 1.3 * rng.normal(),
-                 0.3 * f - 2 + 0.46 * rng.normal(),
-                 8 - 0.5 * f * v[2] + 0.6 * rng.normal(),
-                 v[3] * v[3] * 4 - 2 + 0.3 * rng.normal()});
-  }
-  FnnTrainingOptions options;
-  options.input_names = paper_input_names();
-  const auto t0 = std::chrono::steady_clock::now();
-  for (std::size_t o = 0; o < 4; ++o) {
-    Rows<1> yo;
-    for (const auto& v : y) yo.push_back({v[o]});
-    const auto r = train_fnn<4, 3, 1>(x, yo, options);
-    EXPECT_TRUE(r.summary.usable()) << r.summary.message;
-    std::cout << "PaperNetwork output " << o << ": " << r.summary.iterations << " LM iterations, λ "
-              << r.summary.lambda << ", train RMSE " << r.summary.train_rmse[0] << " (init "
-              << r.summary.init_train_rmse[0] << "), CV RMSE " << r.summary.cv_rmse[0] << ", "
-              << r.summary.wall_seconds << " s; " << r.summary.message << "\n";
-  }
-  const double four = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto multi = train_fnn<4, 3, 4>(x, y, options);
-  EXPECT_TRUE(multi.summary.usable()) << multi.summary.message;
-  std::cout << "four PaperNetwork fits: " << four
-            << " s; PaperMultiNetwork: " << multi.summary.wall_seconds << " s ("
-            << multi.summary.iterations << " LM iterations, λ " << multi.summary.lambda << ")\n";
-  EXPECT_LT(four, 10.0);  // target ≤ 2 s; generous bound for a loaded CI machine
-  EXPECT_LT(multi.summary.wall_seconds, 10.0);
-#endif
-}
+// Training time is measured by bench/bench_training.cpp (Google Benchmark), not here.
 
 }  // namespace
 }  // namespace cmmcomp::training
