@@ -36,13 +36,7 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
       // the first failing row, whatever the thread count.
       for (std::size_t i = next++; i < total; i = next++) {
         io::DatasetRow& r = rows[i];
-        const motion::ProbingMove move{r.pv_mm_s * 1e-3,
-                                       r.pa_mm_s2 * 1e-3,
-                                       r.pd_mm * 1e-3,
-                                       r.av_mm_s * 1e-3,
-                                       r.aa_mm_s2 * 1e-3,
-                                       r.ad_mm * 1e-3,
-                                       0.0};
+        const motion::ProbingMove move = move_of(r);
         try {
           const SimulationResult res = sim.simulate(move, r.y_mm * 1e-3);
           const errors::DynamicErrors e = add_noise(res.errors_um, options.noise, i);

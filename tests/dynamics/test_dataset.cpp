@@ -157,13 +157,7 @@ TEST(SimulateDataset, NoiselessRowsEqualTheSimulator) {
   BridgeSimulator sim(default_machine());
   for (const std::size_t i : {std::size_t{0}, std::size_t{8}}) {
     const DatasetRow& r = rows[i];
-    const motion::ProbingMove move{r.pv_mm_s * 1e-3,
-                                   r.pa_mm_s2 * 1e-3,
-                                   r.pd_mm * 1e-3,
-                                   r.av_mm_s * 1e-3,
-                                   r.aa_mm_s2 * 1e-3,
-                                   r.ad_mm * 1e-3,
-                                   0.0};
+    const motion::ProbingMove move = move_of(r);
     const errors::DynamicErrors e = sim.simulate(move, r.y_mm * 1e-3).errors_um;
     EXPECT_EQ(r.mpe_um, e.mpe) << "row " << i + 1;
     EXPECT_EQ(r.rpe_um, e.rpe) << "row " << i + 1;
