@@ -4,7 +4,7 @@ include(CMakePackageConfigHelpers)
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/cmmcomp" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES "${PROJECT_BINARY_DIR}/include/cmmcomp/version.hpp"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cmmcomp)
-install(TARGETS cmmcomp_core cmmcomp_lib cmmcomp_training EXPORT cmmcompTargets
+install(TARGETS cmmcomp_core cmmcomp_lib cmmcomp_training cmmcomp_capi EXPORT cmmcompTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

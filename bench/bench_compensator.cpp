@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+/// @file Cost of one MoveCompensator::before_approach (paper's 4x3x4 network), through the C++
+/// API and the C ABI. Target: median <= 300 ns per call.
+#include <benchmark/benchmark.h>
+#include <cmmcomp/compensator.h>
+
+#include <array>
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/io/model_file.hpp>
+#include <cstddef>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace cm = cmmcomp::compensation;
+constexpr std::size_t kMoves = 1024;  // a power of two, cycled through
+
+// A random valid model over the paper's move ranges (mm, mm/s), consequents of a few µm.
+cm::MoveCompensator::Model random_model(std::mt19937_64& rng) {
+  cm::MoveCompensator::Model m;
+  m.ranges = {cmmcomp::fuzzy::InputRange{10.0, 100.0},
+              cmmcomp::fuzzy::InputRange{5.0, 200.0},
+              cmmcomp::fuzzy::InputRange{2.0, 30.0},
+              cmmcomp::fuzzy::InputRange{1.0, 20.0}};
+  std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+  std::uniform_real_distribution<double> width(0.2, 0.5);
+  std::uniform_real_distribution<double> coef(-5.0, 5.0);
+  for (int i = 0; i < 4; ++i) {
+    for (int s = 0; s < 3; ++s) {
+      m.params.centre(i, s) = 0.5 * s + jitter(rng);
+      m.params.width(i, s) = width(rng);
+    }
+  }
+  for (int k = cm::MoveCompensator::Model::Params::kConsequentsOffset;
+       k < cm::MoveCompensator::Model::kParamCount;
+       ++k) {
+    m.params.values[static_cast<unsigned>(k)] = coef(rng);
+  }
+  return m;
+}
+
+std::vector<cm::MoveRequest> random_moves(const cm::MoveCompensator::Model& m,
+                                          std::mt19937_64& rng) {
+  std::vector<cm::MoveRequest> moves(kMoves);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto in = [&](int i) {
+    const auto& r = m.ranges[static_cast<unsigned>(i)];
+    return r.lo + u(rng) * (r.hi - r.lo);
+  };
+  std::uint32_t seq = 0;
+  for (auto& r : moves) {
+    r.sequence = seq++;
+    r.axis = static_cast<std::uint8_t>(seq % 3);
+    r.direction = {0.0, 0.0, -1.0};
+    r.pv_mm_s = in(0);
+    r.pd_mm = in(1);
+    r.av_mm_s = in(2);
+    r.ad_mm = in(3);
+    r.pa_mm_s2 = 500.0;
+    r.aa_mm_s2 = 200.0;
+    r.y_mm = 100.0;
+    r.z_mm = -50.0;
+  }
+  return moves;
+}
+
+void BM_BeforeApproach(benchmark::State& state) {
+  std::mt19937_64 rng(20190601u);
+  const auto model = random_model(rng);
+  const auto moves = random_moves(model, rng);
+  cm::MoveCompensator comp;
+  for (int axis = 0; axis < cm::kMaxAxes; ++axis) {
+    if (comp.publish(axis, model, 1u) != cmmcomp::Status::kOk) state.SkipWithError("publish");
+  }
+  cm::Correction out;
+  std::size_t k = 0;
+  std::size_t failures = 0;
+  for (auto _ : state) {
+    failures += cmmcomp::ok(comp.before_approach(moves[k], out)) ? 0u : 1u;
+    benchmark::DoNotOptimize(out);
+    k = (k + 1) & (kMoves - 1);
+  }
+  if (failures != 0) state.SkipWithError("before_approach failed");
+}
+BENCHMARK(BM_BeforeApproach);
+
+void BM_CapiBeforeApproach(benchmark::State& state) {
+  std::mt19937_64 rng(20190601u);
+  cmmcomp::io::ModelFile<4, 3, 4> file;
+  file.model = random_model(rng);
+  const auto moves = random_moves(file.model, rng);
+  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
+  file.input_units = {"mm/s", "mm", "mm/s", "mm"};
+  file.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
+  file.output_units = {"um", "um", "um", "um"};
+  file.training.method = "benchmark";
+  file.training.cv_rmse = {0.0, 0.0, 0.0, 0.0};
+  file.training.trained_at = "2026-01-01T00:00:00Z";
+  file.training.tool_version = "bench_compensator";
+  const std::string text = cmmcomp::io::format_model_json(file);
+  cmmcomp_compensator* c = nullptr;
+  if (cmmcomp_create_from_memory(text.data(), text.size(), &c) != CMMCOMP_OK) {
+    state.SkipWithError("create");
+    return;
+  }
+  std::vector<cmmcomp_move_request> reqs(kMoves);
+  for (std::size_t i = 0; i < kMoves; ++i) {
+    const cm::MoveRequest& m = moves[i];
+    reqs[i] = cmmcomp_move_request{m.sequence,
+                                   m.axis,
+                                   {m.direction[0], m.direction[1], m.direction[2]},
+                                   m.pv_mm_s,
+                                   m.pa_mm_s2,
+                                   m.pd_mm,
+                                   m.av_mm_s,
+                                   m.aa_mm_s2,
+                                   m.ad_mm,
+                                   m.y_mm,
+                                   m.z_mm};
+  }
+  cmmcomp_correction out{};
+  std::size_t k = 0;
+  std::size_t failures = 0;
+  for (auto _ : state) {
+    failures += cmmcomp_before_approach(c, &reqs[k], &out) == CMMCOMP_OK ? 0u : 1u;
+    benchmark::DoNotOptimize(out);
+    k = (k + 1) & (kMoves - 1);
+  }
+  cmmcomp_destroy(c);
+  if (failures != 0) state.SkipWithError("cmmcomp_before_approach failed");
+}
+BENCHMARK(BM_CapiBeforeApproach);
+
+}  // namespace

@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: MIT
+/// @file Per-move compensation: one T-S model per axis, hot-swappable, wait-free to evaluate.
+///
+/// `MoveCompensator::before_approach` predicts MPE, RPE, MAE and RAE of a probing move with the
+/// paper's 4-input, 3-set network (fuzzy::PaperMultiNetwork, outputs in that order) and returns
+/// the touch-point correction +RAE·d. Everything the RT path needs is allocated in the
+/// constructor; `publish` copies a model into a preallocated buffer.
+///
+/// Hot swap (docs/compensator.md, "Threading"): each axis has two model buffers and one atomic
+/// 64-bit word `state` = (current buffer index << 62) | entries, where `entries` counts the
+/// readers that entered through this value of the word. A reader does one fetch_add on
+/// `state` (learning the buffer and announcing itself in one step), evaluates, and does one
+/// fetch_add on that buffer's `exits` counter: wait-free, two atomic RMWs, no loop. The writer
+/// fills the other buffer, exchanges `state` (getting the entry count of the old buffer) and
+/// then waits ON ITS SIDE until the old buffer's `exits` reaches that count; only then may the
+/// old buffer be overwritten by a later publish. A buffer a reader may still use is therefore
+/// never written. 62 counter bits overflow after 4.6·10¹⁸ calls between two publications.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cmmcomp/compensation/move_request.hpp>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cmmcomp/status.hpp>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace cmmcomp::compensation {
+
+/// The model a MoveCompensator evaluates: inputs (PV [mm/s], PD [mm], AV [mm/s], AD [mm]),
+/// 3 sets each, outputs (MPE, RPE, MAE, RAE) [µm] — what cmmcomp-train writes.
+using CompensationModel = fuzzy::PaperMultiNetwork;
+
+/// Options of a MoveCompensator, fixed at construction.
+struct CompensatorOptions {
+  /// What to do with a move outside the model's training ranges. Default kClamp: clamp the
+  /// inputs, compute, set kFlagOutsideDomain and return Status::kOutsideDomain.
+  fuzzy::DomainPolicy outside_domain = fuzzy::DomainPolicy::kClamp;
+
+  /// True when every field is usable; otherwise false and, if `why` is given, the reason.
+  /// Setup only.
+  bool is_valid(std::string* why = nullptr) const {
+    if (outside_domain != fuzzy::DomainPolicy::kClamp &&
+        outside_domain != fuzzy::DomainPolicy::kExtrapolate &&
+        outside_domain != fuzzy::DomainPolicy::kReject) {
+      if (why != nullptr) *why = "outside_domain is not a DomainPolicy value";
+      return false;
+    }
+    return true;
+  }
+};
+
+/// One model slot per axis; see the file comment for the hot-swap scheme.
+class MoveCompensator {
+ public:
+  using Model = CompensationModel;
+
+  /// Allocates every model buffer (about 105 kB). Setup only. Throws ConfigError when
+  /// `options` is not valid (aborts instead when built with -fno-exceptions).
+  explicit MoveCompensator(const CompensatorOptions& options = {})
+      : options_(options), axes_(std::make_unique<Axis[]>(kMaxAxes)) {
+    std::string why;
+    if (!options_.is_valid(&why)) {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+      throw ConfigError("CompensatorOptions: " + why);
+#else
+      std::abort();
+#endif
+    }
+  }
+  MoveCompensator(const MoveCompensator&) = delete;
+  MoveCompensator& operator=(const MoveCompensator&) = delete;
+  ~MoveCompensator() = default;
+
+  /// The options given at construction.
+  const CompensatorOptions& options() const noexcept { return options_; }
+
+  /// Validates `model` (fuzzy::validate) and makes it the model of `axis` for every
+  /// before_approach call that starts after this returns; calls already running finish with
+  /// the model they started with. `model_id` is echoed in every Correction it computes.
+  /// Setup only (one publisher at a time; concurrent publishers are serialised by a mutex the
+  /// RT path never touches). Waits until no before_approach call still uses the buffer it
+  /// retires (bounded by one call's duration unless a reader thread is preempted).
+  /// Returns kOk; kInvalidInput (`why` set if given) when `axis` is out of range or the model
+  /// is not valid — the model already published keeps serving.
+  Status publish(int axis,
+                 const Model& model,
+                 std::uint64_t model_id = 0,
+                 std::string* why = nullptr) {
+    if (axis < 0 || axis >= kMaxAxes) {
+      if (why != nullptr) *why = "axis out of range";
+      return Status::kInvalidInput;
+    }
+    if (!fuzzy::validate(model, why)) return Status::kInvalidInput;
+    const std::lock_guard<std::mutex> lock(publish_mutex_);
+    Axis& a = axes_[static_cast<std::size_t>(axis)];
+    const std::uint64_t old_index = a.state.load(std::memory_order_relaxed) >> kIndexShift;
+    // The buffer not current is free: the previous publish waited for its readers to leave.
+    const std::uint64_t next = old_index == 0 ? 1 : 0;
+    Buffer& b = a.buffers[next];
+    b.model = model;
+    b.model_id = model_id;
+    b.exits.store(0, std::memory_order_relaxed);
+    const std::uint64_t old = a.state.exchange(next << kIndexShift, std::memory_order_acq_rel);
+    const std::uint64_t entered = old & kCountMask;
+    if ((old >> kIndexShift) != kNone) {
+      const Buffer& retired = a.buffers[static_cast<std::size_t>(old >> kIndexShift)];
+      while ((retired.exits.load(std::memory_order_acquire) & kCountMask) != entered) {
+        std::this_thread::yield();
+      }
+    }
+    return Status::kOk;
+  }
+
+  /// True when `axis` has a published model. Not for decisions on the RT path (it may change
+  /// right after); use the Status of before_approach. RT-safe.
+  bool has_model(int axis) const noexcept {
+    if (axis < 0 || axis >= kMaxAxes) return false;
+    return (axes_[static_cast<std::size_t>(axis)].state.load(std::memory_order_acquire) >>
+            kIndexShift) != kNone;
+  }
+
+  /// Predicts the dynamic errors of `move` with the model of `move.axis` (outside the training
+  /// ranges: CompensatorOptions::outside_domain) and fills `out`: the four errors [µm],
+  /// correction_um = rae_um·direction, flags, model id and the sequence echo.
+  /// RT-safe and wait-free: no allocation, no lock, no syscall, two atomic RMWs; never writes
+  /// NaN or inf. `out` is untouched unless ok(status).
+  /// Returns kOk; kOutsideDomain (policy kClamp or kExtrapolate; kFlagOutsideDomain set);
+  /// kInvalidInput (request fails validate_move, or the model's result is not finite);
+  /// kNoModel (nothing published for the axis); kOutsideDomainRejected (policy kReject).
+  [[nodiscard]] Status before_approach(const MoveRequest& move, Correction& out) const noexcept {
+    if (validate_move(move) != Status::kOk) return Status::kInvalidInput;
+    Axis& a = axes_[move.axis];
+    const std::uint64_t entered = a.state.fetch_add(1, std::memory_order_acquire);
+    const std::uint64_t index = entered >> kIndexShift;
+    if (index == kNone) return Status::kNoModel;
+    Buffer& b = a.buffers[static_cast<std::size_t>(index)];
+    const Model::RawInput x{move.pv_mm_s, move.pd_mm, move.av_mm_s, move.ad_mm};
+    Model::RawOutput y;
+    const Status s = fuzzy::evaluate(b.model, x, y, options_.outside_domain);
+    const std::uint64_t model_id = b.model_id;
+    b.exits.fetch_add(1, std::memory_order_release);  // the buffer is not read after this
+    if (!ok(s)) return s;
+    out.mpe_um = y[0];
+    out.rpe_um = y[1];
+    out.mae_um = y[2];
+    out.rae_um = y[3];
+    for (std::size_t k = 0; k < 3; ++k) out.correction_um[k] = y[3] * move.direction[k];
+    out.flags = flags_for(s);
+    out.sequence = move.sequence;
+    out.model_id = model_id;
+    return s;
+  }
+
+ private:
+  static constexpr unsigned kIndexShift = 62;
+  static constexpr std::uint64_t kCountMask = (std::uint64_t{1} << kIndexShift) - 1;
+  static constexpr std::uint64_t kNone = 3;  ///< index value: nothing published
+
+  struct Buffer {
+    Model model{};
+    std::uint64_t model_id = 0;
+    std::atomic<std::uint64_t> exits{0};  ///< readers that left this buffer
+  };
+  struct Axis {
+    std::atomic<std::uint64_t> state{kNone << kIndexShift};
+    std::array<Buffer, 2> buffers{};
+  };
+
+  CompensatorOptions options_;
+  std::unique_ptr<Axis[]> axes_;  // mutable through the pointer: readers count on atomics
+  std::mutex publish_mutex_;
+};
+
+}  // namespace cmmcomp::compensation

@@ -1,0 +1,210 @@
+// SPDX-License-Identifier: MIT
+/// @file The C ABI (include/cmmcomp/compensator.h) over compensation::MoveCompensator.
+#include <cmmcomp/compensator.h>
+
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/version.hpp>
+#include <cstdint>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+#include <new>
+#include <string>
+
+namespace cm = cmmcomp::compensation;
+
+struct cmmcomp_compensator {
+  cm::MoveCompensator compensator;
+};
+
+namespace {
+
+static_assert(CMMCOMP_MAX_AXES == static_cast<unsigned>(cm::kMaxAxes), "axis count");
+static_assert(CMMCOMP_E_INVALID_INPUT == static_cast<int>(cmmcomp::Status::kInvalidInput), "");
+static_assert(CMMCOMP_E_NO_MODEL == static_cast<int>(cmmcomp::Status::kNoModel), "");
+static_assert(CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED ==
+                  static_cast<int>(cmmcomp::Status::kOutsideDomainRejected),
+              "");
+static_assert(CMMCOMP_FLAG_OK == cm::kFlagOk &&
+                  CMMCOMP_FLAG_OUTSIDE_DOMAIN == cm::kFlagOutsideDomain &&
+                  CMMCOMP_FLAG_INVALID_INPUT == cm::kFlagInvalidInput &&
+                  CMMCOMP_FLAG_NO_MODEL == cm::kFlagNoModel,
+              "flags");
+
+// A file that cannot be opened is CMMCOMP_E_IO; everything the parser rejects is
+// CMMCOMP_E_MODEL. The two are told apart here, before parsing.
+int read_file(const char* path, std::string& text) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return CMMCOMP_E_IO;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return CMMCOMP_E_IO;
+  char chunk[65536];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > CMMCOMP_MAX_MODEL_BYTES) return CMMCOMP_E_ARGUMENT;
+  }
+  if (in.bad()) return CMMCOMP_E_IO;
+  return CMMCOMP_OK;
+}
+
+// Parses, then publishes to every axis. Publication validates each model again; the model
+// file parser already guarantees it, so a failure there is internal.
+int publish_text(cm::MoveCompensator& comp, const std::string& text, const std::string& source) {
+  const auto file = cmmcomp::io::parse_model_json<4, 3, 4>(text, source);
+  const std::uint64_t id = std::strtoull(file.model_id.c_str(), nullptr, 16);
+  for (int axis = 0; axis < cm::kMaxAxes; ++axis) {
+    if (comp.publish(axis, file.model, id) != cmmcomp::Status::kOk) return CMMCOMP_E_INTERNAL;
+  }
+  return CMMCOMP_OK;
+}
+
+// Every entry point funnels its exceptions through here: nothing crosses the C boundary.
+int code_of_current_exception() noexcept {
+  try {
+    throw;
+  } catch (const std::bad_alloc&) {
+    return CMMCOMP_E_NO_MEMORY;
+  } catch (const cmmcomp::ConfigError&) {
+    return CMMCOMP_E_MODEL;
+  } catch (...) {
+    return CMMCOMP_E_INTERNAL;
+  }
+}
+
+int create(const std::string* text, const char* path, cmmcomp_compensator** out) noexcept {
+  try {
+    std::string from_file;
+    if (path != nullptr) {
+      const int rc = read_file(path, from_file);
+      if (rc != CMMCOMP_OK) return rc;
+      text = &from_file;
+    }
+    auto c = std::make_unique<cmmcomp_compensator>();
+    const int rc = publish_text(c->compensator, *text, path != nullptr ? path : "<memory>");
+    if (rc != CMMCOMP_OK) return rc;
+    *out = c.release();
+    return CMMCOMP_OK;
+  } catch (...) {
+    return code_of_current_exception();
+  }
+}
+
+int reload(cmmcomp_compensator* c, const std::string* text, const char* path) noexcept {
+  try {
+    std::string from_file;
+    if (path != nullptr) {
+      const int rc = read_file(path, from_file);
+      if (rc != CMMCOMP_OK) return rc;
+      text = &from_file;
+    }
+    return publish_text(c->compensator, *text, path != nullptr ? path : "<memory>");
+  } catch (...) {
+    return code_of_current_exception();
+  }
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* cmmcomp_version(void) { return CMMCOMP_VERSION_STRING; }
+
+unsigned cmmcomp_abi_version(void) { return CMMCOMP_ABI_VERSION; }
+
+int cmmcomp_create_from_file(const char* path, cmmcomp_compensator** out) {
+  if (path == nullptr || out == nullptr) return CMMCOMP_E_ARGUMENT;
+  return create(nullptr, path, out);
+}
+
+int cmmcomp_create_from_memory(const void* json, size_t size, cmmcomp_compensator** out) {
+  if (json == nullptr || out == nullptr || size > CMMCOMP_MAX_MODEL_BYTES) {
+    return CMMCOMP_E_ARGUMENT;
+  }
+  try {
+    const std::string text(static_cast<const char*>(json), size);
+    return create(&text, nullptr, out);
+  } catch (...) {
+    return code_of_current_exception();
+  }
+}
+
+int cmmcomp_reload_from_file(cmmcomp_compensator* c, const char* path) {
+  if (c == nullptr || path == nullptr) return CMMCOMP_E_ARGUMENT;
+  return reload(c, nullptr, path);
+}
+
+int cmmcomp_reload_from_memory(cmmcomp_compensator* c, const void* json, size_t size) {
+  if (c == nullptr || json == nullptr || size > CMMCOMP_MAX_MODEL_BYTES) {
+    return CMMCOMP_E_ARGUMENT;
+  }
+  try {
+    const std::string text(static_cast<const char*>(json), size);
+    return reload(c, &text, nullptr);
+  } catch (...) {
+    return code_of_current_exception();
+  }
+}
+
+int cmmcomp_before_approach(const cmmcomp_compensator* c,
+                            const cmmcomp_move_request* in,
+                            cmmcomp_correction* out) {
+  if (c == nullptr || in == nullptr || out == nullptr) return CMMCOMP_E_ARGUMENT;
+  if (in->axis >= CMMCOMP_MAX_AXES) return CMMCOMP_E_INVALID_INPUT;
+  cm::MoveRequest m;
+  m.sequence = in->sequence;
+  m.axis = static_cast<std::uint8_t>(in->axis);
+  m.direction = {in->direction[0], in->direction[1], in->direction[2]};
+  m.pv_mm_s = in->pv_mm_s;
+  m.pa_mm_s2 = in->pa_mm_s2;
+  m.pd_mm = in->pd_mm;
+  m.av_mm_s = in->av_mm_s;
+  m.aa_mm_s2 = in->aa_mm_s2;
+  m.ad_mm = in->ad_mm;
+  m.y_mm = in->y_mm;
+  m.z_mm = in->z_mm;
+  cm::Correction r;
+  const cmmcomp::Status s = c->compensator.before_approach(m, r);
+  if (!cmmcomp::ok(s)) return static_cast<int>(s);
+  out->mpe_um = r.mpe_um;
+  out->rpe_um = r.rpe_um;
+  out->mae_um = r.mae_um;
+  out->rae_um = r.rae_um;
+  for (std::size_t k = 0; k < 3; ++k) out->correction_um[k] = r.correction_um[k];
+  out->flags = r.flags;
+  out->sequence = r.sequence;
+  out->model_id = r.model_id;
+  return CMMCOMP_OK;
+}
+
+void cmmcomp_destroy(cmmcomp_compensator* c) { delete c; }
+
+const char* cmmcomp_strerror(int code) {
+  switch (code) {
+    case CMMCOMP_OK:
+      return "ok";
+    case CMMCOMP_E_ARGUMENT:
+      return "invalid argument (null pointer or size out of range)";
+    case CMMCOMP_E_IO:
+      return "cannot open or read the model file";
+    case CMMCOMP_E_MODEL:
+      return "not a valid 4x3x4 cmmcomp model file";
+    case CMMCOMP_E_NO_MEMORY:
+      return "out of memory";
+    case CMMCOMP_E_INTERNAL:
+      return "internal error";
+    case CMMCOMP_E_INVALID_INPUT:
+      return "invalid move request (NaN, inf, non-positive, bad axis or direction)";
+    case CMMCOMP_E_NO_MODEL:
+      return "no model published";
+    case CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED:
+      return "outside the training domain (rejected by policy)";
+    default:
+      return "unknown error code";
+  }
+}
+
+}  // extern "C"

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+/// @file Test fixture: writes the model files test_capi.c loads (usage: make_capi_models DIR).
+///   DIR/model_a.json  every rule y = c + k·x̂_PV, c = (3, −1.25, 4, 2.5), k = (1, 0.5, 0, 2)
+///   DIR/model_b.json  constant outputs (1, 1, 1, −0.5)
+/// Input ranges: PV [5, 80] mm/s, PD [1, 50] mm, AV [1, 10] mm/s, AD [0.5, 5] mm.
+#include <array>
+#include <cmmcomp/io/model_file.hpp>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+namespace {
+
+cmmcomp::io::ModelFile<4, 3, 4> linear_file(const std::array<double, 4>& c,
+                                            const std::array<double, 4>& k) {
+  cmmcomp::io::ModelFile<4, 3, 4> f;
+  auto& m = f.model;
+  m.ranges = {cmmcomp::fuzzy::InputRange{5.0, 80.0},
+              cmmcomp::fuzzy::InputRange{1.0, 50.0},
+              cmmcomp::fuzzy::InputRange{1.0, 10.0},
+              cmmcomp::fuzzy::InputRange{0.5, 5.0}};
+  for (int i = 0; i < 4; ++i) {
+    for (int s = 0; s < 3; ++s) {
+      m.params.centre(i, s) = 0.5 * s;
+      m.params.width(i, s) = 0.4;
+    }
+  }
+  for (int o = 0; o < 4; ++o) {
+    for (int j = 0; j < f.model.kRules; ++j) {
+      m.params.consequent(o, j, 0) = c[static_cast<unsigned>(o)];
+      m.params.consequent(o, j, 1) = k[static_cast<unsigned>(o)];
+    }
+  }
+  f.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
+  f.input_units = {"mm/s", "mm", "mm/s", "mm"};
+  f.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
+  f.output_units = {"um", "um", "um", "um"};
+  f.training.method = "hand-built test model";
+  f.training.cv_rmse = {0.0, 0.0, 0.0, 0.0};
+  f.training.trained_at = "2026-01-01T00:00:00Z";
+  f.training.tool_version = "make_capi_models";
+  return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_capi_models DIR\n");
+    return 2;
+  }
+  try {
+    const std::string dir = argv[1];
+    const std::string a = cmmcomp::io::save_model_file(
+        dir + "/model_a.json", linear_file({3.0, -1.25, 4.0, 2.5}, {1.0, 0.5, 0.0, 2.0}));
+    const std::string b = cmmcomp::io::save_model_file(
+        dir + "/model_b.json", linear_file({1.0, 1.0, 1.0, -0.5}, {0.0, 0.0, 0.0, 0.0}));
+    std::printf("make_capi_models: model_a %s, model_b %s\n", a.c_str(), b.c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "make_capi_models: %s\n", e.what());
+    return 1;
+  }
+}

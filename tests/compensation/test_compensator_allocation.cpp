@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+/// @file MoveCompensator::before_approach never allocates, on success and on every error path.
+#include <gtest/gtest.h>
+
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "support/allocation_counter.hpp"
+
+namespace cmmcomp::compensation {
+namespace {
+
+MoveCompensator::Model flat_model() {
+  MoveCompensator::Model m;
+  m.ranges = {fuzzy::InputRange{5.0, 80.0},
+              fuzzy::InputRange{1.0, 50.0},
+              fuzzy::InputRange{1.0, 10.0},
+              fuzzy::InputRange{0.5, 5.0}};
+  for (int i = 0; i < 4; ++i) {
+    for (int s = 0; s < 3; ++s) {
+      m.params.centre(i, s) = 0.5 * s;
+      m.params.width(i, s) = 0.4;
+    }
+  }
+  for (int o = 0; o < 4; ++o) {
+    for (int j = 0; j < MoveCompensator::Model::kRules; ++j) {
+      m.params.consequent(o, j, 0) = o + 1.0;
+      m.params.consequent(o, j, 2) = 0.25 * o;
+    }
+  }
+  return m;
+}
+
+MoveRequest move(int i) {
+  MoveRequest r;
+  r.sequence = static_cast<std::uint32_t>(i);
+  r.axis = static_cast<std::uint8_t>(i % 2);
+  r.pv_mm_s = 5.0 + (i % 100);  // some outside [5, 80]
+  r.pa_mm_s2 = 500.0;
+  r.pd_mm = 1.0 + (i % 49);
+  r.av_mm_s = 2.0;
+  r.aa_mm_s2 = 100.0;
+  r.ad_mm = 1.0;
+  return r;
+}
+
+TEST(MoveCompensatorRt, BeforeApproachDoesNotAllocate) {
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, flat_model()), Status::kOk);  // allocation allowed here
+  ASSERT_EQ(comp.publish(1, flat_model()), Status::kOk);
+  Correction out;
+  std::size_t failures = 0;
+  test::AllocationCounter allocs;
+  for (int i = 0; i < 10000; ++i) failures += ok(comp.before_approach(move(i), out)) ? 0 : 1;
+  MoveRequest bad = move(0);
+  bad.pv_mm_s = std::numeric_limits<double>::quiet_NaN();
+  failures += comp.before_approach(bad, out) == Status::kInvalidInput ? 0 : 1;
+  bad = move(0);
+  bad.axis = 3;  // no model
+  failures += comp.before_approach(bad, out) == Status::kNoModel ? 0 : 1;
+  EXPECT_EQ(allocs.count(), 0u);
+  EXPECT_EQ(failures, 0u);
+}
+
+TEST(MoveCompensatorRt, CounterSeesAnAllocation) {  // the positive control
+  test::AllocationCounter allocs;
+  std::vector<double> v(10, 1.0);
+  asm volatile("" : : "g"(v.data()) : "memory");
+  EXPECT_EQ(allocs.count(), 1u);
+}
+
+}  // namespace
+}  // namespace cmmcomp::compensation

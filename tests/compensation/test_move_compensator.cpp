@@ -1,0 +1,364 @@
+// SPDX-License-Identifier: MIT
+/// @file MoveCompensator: corrections against hand-built models, signs, invalid input, no model,
+/// refused publications and hot swap under concurrency.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/errors/dynamic_errors.hpp>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <thread>
+
+#include "support/test_seed.hpp"
+
+namespace cmmcomp::compensation {
+namespace {
+
+using Model = MoveCompensator::Model;
+
+// Every rule has the consequent y_o = c_o + k_o·x̂_PV (x̂ normalised): the network output is
+// exactly that wherever it is evaluated, since the normalised firing strengths sum to 1.
+Model linear_model(const std::array<double, 4>& c, const std::array<double, 4>& k) {
+  Model m;
+  m.ranges = {fuzzy::InputRange{5.0, 80.0},
+              fuzzy::InputRange{1.0, 50.0},
+              fuzzy::InputRange{1.0, 10.0},
+              fuzzy::InputRange{0.5, 5.0}};
+  for (int i = 0; i < 4; ++i) {
+    for (int s = 0; s < 3; ++s) {
+      m.params.centre(i, s) = 0.5 * s;
+      m.params.width(i, s) = 0.4;
+    }
+  }
+  for (int o = 0; o < 4; ++o) {
+    for (int j = 0; j < Model::kRules; ++j) {
+      m.params.consequent(o, j, 0) = c[static_cast<unsigned>(o)];
+      m.params.consequent(o, j, 1) = k[static_cast<unsigned>(o)];
+    }
+  }
+  return m;
+}
+
+Model random_model(std::mt19937_64& rng) {
+  Model m = linear_model({0, 0, 0, 0}, {0, 0, 0, 0});
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  for (int k = Model::Params::kConsequentsOffset; k < Model::kParamCount; ++k) {
+    m.params.values[static_cast<unsigned>(k)] = u(rng);
+  }
+  return m;
+}
+
+MoveRequest move_at(double pv_mm_s) {
+  MoveRequest r;
+  r.sequence = 7;
+  r.axis = 0;
+  r.direction = {1.0, 0.0, 0.0};
+  r.pv_mm_s = pv_mm_s;
+  r.pa_mm_s2 = 500.0;
+  r.pd_mm = 20.0;
+  r.av_mm_s = 5.0;
+  r.aa_mm_s2 = 200.0;
+  r.ad_mm = 2.0;
+  r.y_mm = 300.0;
+  r.z_mm = -100.0;
+  return r;
+}
+
+Correction sentinel() {
+  Correction c;
+  c.mpe_um = c.rpe_um = c.mae_um = c.rae_um = -999.0;
+  c.correction_um = {-999.0, -999.0, -999.0};
+  c.flags = 0xdeadu;
+  c.sequence = 0xbeefu;
+  c.model_id = 0x1234u;
+  return c;
+}
+
+bool same_bits(const Correction& a, const Correction& b) {
+  return std::memcmp(&a.mpe_um, &b.mpe_um, 4 * sizeof(double)) == 0 &&
+         a.correction_um == b.correction_um && a.flags == b.flags && a.sequence == b.sequence &&
+         a.model_id == b.model_id;
+}
+
+TEST(CompensatorOptions, DefaultsAreValidAndClamp) {
+  const CompensatorOptions o;
+  std::string why;
+  EXPECT_TRUE(o.is_valid(&why));
+  EXPECT_EQ(o.outside_domain, fuzzy::DomainPolicy::kClamp);
+}
+
+TEST(CompensatorOptions, RejectsUnknownPolicyAndConstructorThrows) {
+  CompensatorOptions o;
+  o.outside_domain = static_cast<fuzzy::DomainPolicy>(42);
+  std::string why;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_NE(why.find("outside_domain"), std::string::npos);
+  EXPECT_THROW(MoveCompensator{o}, ConfigError);
+}
+
+TEST(MoveCompensator, ComputesHandBuiltModel) {
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, linear_model({3.0, -1.25, 4.0, 2.5}, {1.0, 0.5, 0.0, 2.0}), 0xabcu),
+            Status::kOk);
+  Correction out;
+  // PV = 42.5 mm/s is the middle of [5, 80]: x̂ = 0.5.
+  ASSERT_EQ(comp.before_approach(move_at(42.5), out), Status::kOk);
+  EXPECT_NEAR(out.mpe_um, 3.5, 1e-12);
+  EXPECT_NEAR(out.rpe_um, -1.0, 1e-12);
+  EXPECT_NEAR(out.mae_um, 4.0, 1e-12);
+  EXPECT_NEAR(out.rae_um, 3.5, 1e-12);
+  EXPECT_NEAR(out.correction_um[0], 3.5, 1e-12);
+  EXPECT_EQ(out.correction_um[1], 0.0);
+  EXPECT_EQ(out.correction_um[2], 0.0);
+  EXPECT_EQ(out.flags, kFlagOk);
+  EXPECT_EQ(out.sequence, 7u);
+  EXPECT_EQ(out.model_id, 0xabcu);
+}
+
+TEST(MoveCompensator, MatchesFuzzyEvaluateExactly) {
+  std::mt19937_64 rng(test::seed());
+  const Model m = random_model(rng);
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(2, m), Status::kOk);
+  MoveRequest r = move_at(33.0);
+  r.axis = 2;
+  Correction out;
+  ASSERT_EQ(comp.before_approach(r, out), Status::kOk);
+  Model::RawOutput y;
+  ASSERT_EQ(
+      fuzzy::evaluate(m, {r.pv_mm_s, r.pd_mm, r.av_mm_s, r.ad_mm}, y, fuzzy::DomainPolicy::kClamp),
+      Status::kOk);
+  EXPECT_EQ(out.mpe_um, y[0]);
+  EXPECT_EQ(out.rpe_um, y[1]);
+  EXPECT_EQ(out.mae_um, y[2]);
+  EXPECT_EQ(out.rae_um, y[3]);
+}
+
+// Hand example (docs/compensator.md, "Signs"): a probe approaches a face in −x. The scale
+// latches 100.000 mm, but the tip, running ahead, touched at 99.998 mm. The trace
+// e = (x_tip − x_scale)·d gives RAE = (99.998 − 100.000 mm)·(−1) = +2 µm; the correction
+// +RAE·d = (−2, 0, 0) µm added to the scale point gives the tip's point.
+TEST(MoveCompensatorSigns, CorrectionIsPlusRaeAlongDirection) {
+  const double scale_mm = 100.000;
+  const double tip_mm = 99.998;
+  const double time[2] = {0.0, 1.0};
+  const double raw_um[2] = {0.0, (tip_mm - scale_mm) * 1000.0};  // x_tip − x_scale, axis frame
+  errors::DynamicErrors e;
+  motion::PhaseInstants at;
+  at.positioning_accel_end = 0.2;
+  at.positioning_end = 0.5;
+  at.approach_accel_end = 0.7;
+  at.touch = 1.0;
+  ASSERT_EQ(errors::extract_dynamic_errors({time, raw_um, 2}, at, -1, e), Status::kOk);
+  EXPECT_NEAR(e.rae, 2.0, 1e-9);  // tip ahead of the scale in the direction of motion
+
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, linear_model({0.0, 0.0, 0.0, e.rae}, {0.0, 0.0, 0.0, 0.0})),
+            Status::kOk);
+  MoveRequest r = move_at(40.0);
+  r.direction = {-1.0, 0.0, 0.0};
+  Correction out;
+  ASSERT_EQ(comp.before_approach(r, out), Status::kOk);
+  EXPECT_NEAR(out.correction_um[0], -2.0, 1e-9);
+  EXPECT_NEAR(scale_mm + out.correction_um[0] / 1000.0, tip_mm, 1e-12);
+
+  // An oblique approach: the correction lies along d and its length is |RAE|.
+  const double h = std::sqrt(0.5);
+  r.direction = {0.0, h, -h};
+  ASSERT_EQ(comp.before_approach(r, out), Status::kOk);
+  EXPECT_EQ(out.correction_um[0], 0.0);
+  EXPECT_NEAR(out.correction_um[1], 2.0 * h, 1e-9);
+  EXPECT_NEAR(out.correction_um[2], -2.0 * h, 1e-9);
+}
+
+TEST(MoveCompensatorSigns, NegativeRaeCorrectsAgainstTheDirection) {
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(1, linear_model({0.0, 0.0, 0.0, -1.5}, {0.0, 0.0, 0.0, 0.0})),
+            Status::kOk);
+  MoveRequest r = move_at(40.0);
+  r.axis = 1;
+  r.direction = {0.0, 1.0, 0.0};  // +y; tip lags the scale by 1.5 µm
+  Correction out;
+  ASSERT_EQ(comp.before_approach(r, out), Status::kOk);
+  EXPECT_NEAR(out.correction_um[1], -1.5, 1e-12);
+}
+
+TEST(MoveCompensator, RejectsInvalidRequestsAndLeavesOutputUntouched) {
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, linear_model({1, 2, 3, 4}, {0, 0, 0, 0})), Status::kOk);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  double MoveRequest::*positive[] = {&MoveRequest::pv_mm_s,
+                                     &MoveRequest::pa_mm_s2,
+                                     &MoveRequest::pd_mm,
+                                     &MoveRequest::av_mm_s,
+                                     &MoveRequest::aa_mm_s2,
+                                     &MoveRequest::ad_mm};
+  for (auto field : positive) {
+    for (double bad : {nan, inf, -inf, 0.0, -1.0}) {
+      MoveRequest r = move_at(40.0);
+      r.*field = bad;
+      Correction out = sentinel();
+      EXPECT_EQ(comp.before_approach(r, out), Status::kInvalidInput) << bad;
+      EXPECT_TRUE(same_bits(out, sentinel()));
+    }
+  }
+  for (double bad : {nan, inf}) {
+    MoveRequest r = move_at(40.0);
+    r.y_mm = bad;
+    Correction out = sentinel();
+    EXPECT_EQ(comp.before_approach(r, out), Status::kInvalidInput);
+    r = move_at(40.0);
+    r.z_mm = bad;
+    EXPECT_EQ(comp.before_approach(r, out), Status::kInvalidInput);
+    r = move_at(40.0);
+    r.direction[1] = bad;
+    EXPECT_EQ(comp.before_approach(r, out), Status::kInvalidInput);
+    EXPECT_TRUE(same_bits(out, sentinel()));
+  }
+  const std::array<std::array<double, 3>, 4> bad_dirs{
+      {{0.0, 0.0, 0.0}, {1.0 + 2e-6, 0.0, 0.0}, {0.6, 0.6, 0.6}, {-1.0 + 2e-6, 0.0, 0.0}}};
+  for (const auto& d : bad_dirs) {
+    MoveRequest r = move_at(40.0);
+    r.direction = d;
+    Correction out = sentinel();
+    EXPECT_EQ(comp.before_approach(r, out), Status::kInvalidInput);
+    EXPECT_TRUE(same_bits(out, sentinel()));
+  }
+  MoveRequest r = move_at(40.0);
+  r.direction = {1.0 + 0.5e-6, 0.0, 0.0};  // inside the tolerance
+  Correction out;
+  EXPECT_EQ(comp.before_approach(r, out), Status::kOk);
+  r.axis = kMaxAxes;
+  out = sentinel();
+  EXPECT_EQ(comp.before_approach(r, out), Status::kInvalidInput);
+  EXPECT_TRUE(same_bits(out, sentinel()));
+}
+
+TEST(MoveCompensator, ReportsNoModelPerAxis) {
+  MoveCompensator comp;
+  Correction out = sentinel();
+  EXPECT_FALSE(comp.has_model(0));
+  EXPECT_EQ(comp.before_approach(move_at(40.0), out), Status::kNoModel);
+  EXPECT_TRUE(same_bits(out, sentinel()));
+  ASSERT_EQ(comp.publish(3, linear_model({1, 2, 3, 4}, {0, 0, 0, 0})), Status::kOk);
+  EXPECT_TRUE(comp.has_model(3));
+  EXPECT_EQ(comp.before_approach(move_at(40.0), out), Status::kNoModel);  // axis 0 still empty
+  MoveRequest r = move_at(40.0);
+  r.axis = 3;
+  EXPECT_EQ(comp.before_approach(r, out), Status::kOk);
+}
+
+TEST(MoveCompensator, RefusesInvalidModelAndKeepsServingTheOld) {
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, linear_model({1, 2, 3, 4}, {0, 0, 0, 0}), 11u), Status::kOk);
+  Model bad = linear_model({9, 9, 9, 9}, {0, 0, 0, 0});
+  bad.params.width(1, 2) = 0.0;
+  std::string why;
+  EXPECT_EQ(comp.publish(0, bad, 22u, &why), Status::kInvalidInput);
+  EXPECT_NE(why.find("width"), std::string::npos);
+  bad = linear_model({9, 9, 9, 9}, {0, 0, 0, 0});
+  bad.ranges[0].lo = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(comp.publish(0, bad, 22u), Status::kInvalidInput);
+  EXPECT_EQ(comp.publish(-1, linear_model({1, 2, 3, 4}, {0, 0, 0, 0})), Status::kInvalidInput);
+  EXPECT_EQ(comp.publish(kMaxAxes, linear_model({1, 2, 3, 4}, {0, 0, 0, 0})),
+            Status::kInvalidInput);
+  Correction out;
+  ASSERT_EQ(comp.before_approach(move_at(40.0), out), Status::kOk);
+  EXPECT_NEAR(out.rae_um, 4.0, 1e-12);
+  EXPECT_EQ(out.model_id, 11u);
+}
+
+TEST(MoveCompensator, AppliesTheDomainPolicy) {
+  const Model m = linear_model({0, 0, 0, 1.0}, {0, 0, 0, 2.0});
+  MoveCompensator clamp;
+  ASSERT_EQ(clamp.publish(0, m), Status::kOk);
+  Correction out;
+  ASSERT_EQ(clamp.before_approach(move_at(200.0), out), Status::kOutsideDomain);
+  EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain);
+  EXPECT_NEAR(out.rae_um, 3.0, 1e-12);  // PV clamped to 80: x̂ = 1
+
+  CompensatorOptions o;
+  o.outside_domain = fuzzy::DomainPolicy::kExtrapolate;
+  MoveCompensator extrapolate(o);
+  ASSERT_EQ(extrapolate.publish(0, m), Status::kOk);
+  ASSERT_EQ(extrapolate.before_approach(move_at(155.0), out), Status::kOutsideDomain);
+  EXPECT_NEAR(out.rae_um, 5.0, 1e-12);  // x̂ = 2
+
+  o.outside_domain = fuzzy::DomainPolicy::kReject;
+  MoveCompensator reject(o);
+  ASSERT_EQ(reject.publish(0, m), Status::kOk);
+  out = sentinel();
+  EXPECT_EQ(reject.before_approach(move_at(200.0), out), Status::kOutsideDomainRejected);
+  EXPECT_TRUE(same_bits(out, sentinel()));
+  EXPECT_EQ(reject.before_approach(move_at(40.0), out), Status::kOk);
+}
+
+TEST(CorrectionFlags, DescribeEveryStatus) {
+  EXPECT_EQ(flags_for(Status::kOk), kFlagOk);
+  EXPECT_EQ(flags_for(Status::kOutsideDomain), kFlagOk | kFlagOutsideDomain);
+  EXPECT_EQ(flags_for(Status::kOutsideDomainRejected), kFlagOutsideDomain);
+  EXPECT_EQ(flags_for(Status::kNoModel), kFlagNoModel);
+  EXPECT_EQ(flags_for(Status::kInvalidInput), kFlagInvalidInput);
+}
+
+// A reader calls before_approach in a loop while the writer publishes two models alternately:
+// every result is bit-identical to one model's output, never a mix of both buffers.
+TEST(MoveCompensatorHotSwap, ReaderSeesOneWholeModelAtATime) {
+  std::mt19937_64 rng(test::seed());
+  const Model a = random_model(rng);
+  const Model b = random_model(rng);
+  const MoveRequest r = move_at(27.0);
+  const Model::RawInput x{r.pv_mm_s, r.pd_mm, r.av_mm_s, r.ad_mm};
+  Model::RawOutput ya;
+  Model::RawOutput yb;
+  ASSERT_EQ(fuzzy::evaluate(a, x, ya, fuzzy::DomainPolicy::kClamp), Status::kOk);
+  ASSERT_EQ(fuzzy::evaluate(b, x, yb, fuzzy::DomainPolicy::kClamp), Status::kOk);
+  ASSERT_NE(ya[3], yb[3]);
+
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, a, 1u), Status::kOk);
+  std::atomic<bool> done{false};
+  std::atomic<std::uint64_t> calls{0};
+  std::atomic<std::uint64_t> mixed{0};
+  std::atomic<std::uint64_t> seen_a{0};
+  std::atomic<std::uint64_t> seen_b{0};
+  std::thread reader([&] {
+    Correction out;
+    while (!done.load(std::memory_order_acquire)) {
+      if (comp.before_approach(r, out) != Status::kOk) {
+        mixed.fetch_add(1);
+        continue;
+      }
+      const bool is_a = out.model_id == 1u && out.mpe_um == ya[0] && out.rpe_um == ya[1] &&
+                        out.mae_um == ya[2] && out.rae_um == ya[3];
+      const bool is_b = out.model_id == 2u && out.mpe_um == yb[0] && out.rpe_um == yb[1] &&
+                        out.mae_um == yb[2] && out.rae_um == yb[3];
+      if (!is_a && !is_b) mixed.fetch_add(1);
+      (is_a ? seen_a : seen_b).fetch_add(1, std::memory_order_relaxed);
+      calls.fetch_add(1, std::memory_order_relaxed);
+    }
+  });
+  for (int i = 0; i < 1000; ++i) {
+    const bool even = i % 2 == 0;
+    ASSERT_EQ(comp.publish(0, even ? b : a, even ? 2u : 1u), Status::kOk);
+    if (i % 50 == 0) std::this_thread::yield();
+  }
+  done.store(true, std::memory_order_release);
+  reader.join();
+  EXPECT_EQ(mixed.load(), 0u);
+  EXPECT_GT(calls.load(), 0u);
+  std::printf("hot swap: %llu calls, %llu from model A, %llu from model B\n",
+              static_cast<unsigned long long>(calls.load()),
+              static_cast<unsigned long long>(seen_a.load()),
+              static_cast<unsigned long long>(seen_b.load()));
+}
+
+}  // namespace
+}  // namespace cmmcomp::compensation
