@@ -11,9 +11,9 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
-#include <system_error>
 #include <new>
 #include <string>
+#include <system_error>
 
 namespace cm = cmmcomp::compensation;
 
