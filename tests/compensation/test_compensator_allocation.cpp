@@ -8,29 +8,14 @@
 #include <vector>
 
 #include "support/allocation_counter.hpp"
+#include "support/compensation_models.hpp"
 
 namespace cmmcomp::compensation {
 namespace {
 
+// Output o = (o + 1) + 0.25·o·x̂_PD everywhere.
 MoveCompensator::Model flat_model() {
-  MoveCompensator::Model m;
-  m.ranges = {fuzzy::InputRange{5.0, 80.0},
-              fuzzy::InputRange{1.0, 50.0},
-              fuzzy::InputRange{1.0, 10.0},
-              fuzzy::InputRange{0.5, 5.0}};
-  for (int i = 0; i < 4; ++i) {
-    for (int s = 0; s < 3; ++s) {
-      m.params.centre(i, s) = 0.5 * s;
-      m.params.width(i, s) = 0.4;
-    }
-  }
-  for (int o = 0; o < 4; ++o) {
-    for (int j = 0; j < MoveCompensator::Model::kRules; ++j) {
-      m.params.consequent(o, j, 0) = o + 1.0;
-      m.params.consequent(o, j, 2) = 0.25 * o;
-    }
-  }
-  return m;
+  return test::linear_model({1.0, 2.0, 3.0, 4.0}, {0.0, 0.25, 0.5, 0.75}, 2);
 }
 
 MoveRequest move(int i) {

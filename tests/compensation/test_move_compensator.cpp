@@ -15,6 +15,7 @@
 #include <string>
 #include <thread>
 
+#include "support/compensation_models.hpp"
 #include "support/test_seed.hpp"
 
 namespace cmmcomp::compensation {
@@ -22,28 +23,7 @@ namespace {
 
 using Model = MoveCompensator::Model;
 
-// Every rule has the consequent y_o = c_o + k_o·x̂_PV (x̂ normalised): the network output is
-// exactly that wherever it is evaluated, since the normalised firing strengths sum to 1.
-Model linear_model(const std::array<double, 4>& c, const std::array<double, 4>& k) {
-  Model m;
-  m.ranges = {fuzzy::InputRange{5.0, 80.0},
-              fuzzy::InputRange{1.0, 50.0},
-              fuzzy::InputRange{1.0, 10.0},
-              fuzzy::InputRange{0.5, 5.0}};
-  for (int i = 0; i < 4; ++i) {
-    for (int s = 0; s < 3; ++s) {
-      m.params.centre(i, s) = 0.5 * s;
-      m.params.width(i, s) = 0.4;
-    }
-  }
-  for (int o = 0; o < 4; ++o) {
-    for (int j = 0; j < Model::kRules; ++j) {
-      m.params.consequent(o, j, 0) = c[static_cast<unsigned>(o)];
-      m.params.consequent(o, j, 1) = k[static_cast<unsigned>(o)];
-    }
-  }
-  return m;
-}
+using test::linear_model;
 
 Model random_model(std::mt19937_64& rng) {
   Model m = linear_model({0, 0, 0, 0}, {0, 0, 0, 0});
