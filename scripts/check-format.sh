@@ -3,7 +3,9 @@
 # Fails when a tracked C/C++ file is not clang-formatted. Pass --fix to format them in place.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-mapfile -t files < <(git ls-files '*.hpp' '*.cpp' '*.h' '*.c' 2>/dev/null || true)
+# Tracked files and new ones not yet added (so --fix before `git add` covers them too).
+mapfile -t files < <(git ls-files --cached --others --exclude-standard \
+  '*.hpp' '*.cpp' '*.h' '*.c' 2>/dev/null || true)
 if [ ${#files[@]} -eq 0 ]; then
   mapfile -t files < <(find include src tools tests bench plugins examples -type f \
     \( -name '*.hpp' -o -name '*.cpp' -o -name '*.h' -o -name '*.c' \) 2>/dev/null)

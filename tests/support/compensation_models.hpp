@@ -3,7 +3,6 @@
 #pragma once
 
 #include <array>
-
 #include <cmmcomp/compensation/move_compensator.hpp>
 
 namespace cmmcomp::test {
