@@ -92,10 +92,7 @@ void BM_CapiBeforeApproach(benchmark::State& state) {
   cmmcomp::io::ModelFile<4, 3, 4> file;
   file.model = random_model(rng);
   const auto moves = random_moves(file.model, rng);
-  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
-  file.input_units = {"mm/s", "mm", "mm/s", "mm"};
-  file.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
-  file.output_units = {"um", "um", "um", "um"};
+  cmmcomp::io::set_paper_names(file);
   file.training.method = "benchmark";
   file.training.cv_rmse = {0.0, 0.0, 0.0, 0.0};
   file.training.trained_at = "2026-01-01T00:00:00Z";

@@ -31,10 +31,7 @@ cmmcomp::io::ModelFile<4, 3, 4> linear_file(const std::array<double, 4>& c,
       m.params.consequent(o, j, 1) = k[static_cast<unsigned>(o)];
     }
   }
-  f.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
-  f.input_units = {"mm/s", "mm", "mm/s", "mm"};
-  f.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
-  f.output_units = {"um", "um", "um", "um"};
+  cmmcomp::io::set_paper_names(f);
   f.training.method = "hand-built test model";
   f.training.cv_rmse = {0.0, 0.0, 0.0, 0.0};
   f.training.trained_at = "2026-01-01T00:00:00Z";

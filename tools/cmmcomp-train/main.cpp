@@ -26,7 +26,6 @@ namespace {
 using cmmcomp::fuzzy::PaperMultiNetwork;
 using PaperModelFile = cmmcomp::io::ModelFile<4, 3, 4>;
 
-constexpr const char* kOutputNames[4] = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
 constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
 
 struct FitCommand {
@@ -83,12 +82,7 @@ int run_fit(const FitCommand& cmd) {
   }
   PaperModelFile file;
   file.model = result.model;
-  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
-  file.input_units = {"mm/s", "mm", "mm/s", "mm"};
-  for (std::size_t o = 0; o < 4; ++o) {
-    file.output_names[o] = kOutputNames[o];
-    file.output_units[o] = "um";
-  }
+  cmmcomp::io::set_paper_names(file);
   file.training.data_file_sha256 = cmmcomp::io::sha256_file_hex(cmd.data);
   file.training.method = to_string(s.method);
   file.training.lambda = s.lambda;

@@ -202,4 +202,13 @@ std::string sha256_file_hex(const std::string& path);
 /// The current time as ISO-8601 UTC with whole seconds, `YYYY-MM-DDTHH:MM:SSZ`.
 std::string utc_timestamp_now();
 
+/// Names and units of the paper's network as every tool writes them: inputs PV, PD, AV, AD in the
+/// dataset CSV's columns and units (docs/dataset-csv.md), outputs MPE, RPE, MAE, RAE in µm.
+inline void set_paper_names(ModelFile<4, 3, 4>& file) {
+  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
+  file.input_units = {"mm/s", "mm", "mm/s", "mm"};
+  file.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
+  file.output_units = {"um", "um", "um", "um"};
+}
+
 }  // namespace cmmcomp::io
