@@ -106,6 +106,7 @@ class MoveCompensator {
     b.model = model;
     b.model_id = model_id;
     b.exits.store(0, std::memory_order_relaxed);
+    a.published_id.store(model_id, std::memory_order_relaxed);
     const std::uint64_t old = a.state.exchange(next << kIndexShift, std::memory_order_acq_rel);
     const std::uint64_t entered = old & kCountMask;
     if ((old >> kIndexShift) != kNone) {
@@ -123,6 +124,14 @@ class MoveCompensator {
     if (axis < 0 || axis >= kMaxAxes) return false;
     return (axes_[static_cast<std::size_t>(axis)].state.load(std::memory_order_acquire) >>
             kIndexShift) != kNone;
+  }
+
+  /// Id of the model last published for `axis` (0 when none or `axis` is out of range), for
+  /// status and heartbeat reports. A before_approach call that overlaps a publish may still
+  /// answer with the previous model; its Correction::model_id says which. RT-safe.
+  std::uint64_t model_id(int axis) const noexcept {
+    if (axis < 0 || axis >= kMaxAxes) return 0;
+    return axes_[static_cast<std::size_t>(axis)].published_id.load(std::memory_order_relaxed);
   }
 
   /// Predicts the dynamic errors of `move` with the model of `move.axis` (outside the training
@@ -170,6 +179,7 @@ class MoveCompensator {
   struct Axis {
     std::atomic<std::uint64_t> state{kNone << kIndexShift};
     std::array<Buffer, 2> buffers{};
+    std::atomic<std::uint64_t> published_id{0};  ///< model_id of the last publish
   };
 
   CompensatorOptions options_;
