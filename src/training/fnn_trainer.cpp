@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cmmcomp/detail/splitmix64.hpp>
@@ -70,15 +71,20 @@ class RidgeDual {
   double tol_ = 0;
 };
 
-/// √λ·p for the kTerms consequents of one rule: linear, Jacobian √λ·I.
+/// √λ·(p − p̄) for the kTerms consequents of one rule, p̄ the prior (the global linear fit of
+/// the output): linear, Jacobian √λ·I.
 template <int kTerms>
 class RidgeCost final : public ceres::SizedCostFunction<kTerms, kTerms> {
  public:
-  explicit RidgeCost(double lambda) : s_(std::sqrt(lambda)) {}
+  RidgeCost(double lambda, const double* prior) : s_(std::sqrt(lambda)) {
+    for (int t = 0; t < kTerms; ++t) prior_[static_cast<std::size_t>(t)] = prior[t];
+  }
   bool Evaluate(double const* const* parameters,
                 double* residuals,
                 double** jacobians) const override {
-    for (int t = 0; t < kTerms; ++t) residuals[t] = s_ * parameters[0][t];
+    for (int t = 0; t < kTerms; ++t) {
+      residuals[t] = s_ * (parameters[0][t] - prior_[static_cast<std::size_t>(t)]);
+    }
     if (jacobians != nullptr && jacobians[0] != nullptr) {
       for (int r = 0; r < kTerms; ++r) {
         for (int c = 0; c < kTerms; ++c) jacobians[0][r * kTerms + c] = (r == c) ? s_ : 0.0;
@@ -89,7 +95,18 @@ class RidgeCost final : public ceres::SizedCostFunction<kTerms, kTerms> {
 
  private:
   double s_;
+  std::array<double, static_cast<std::size_t>(kTerms)> prior_{};
 };
+
+/// Least-squares fit of z (N × outputs) on [1, x] (N × terms): the global first-order model,
+/// one column of kTerms coefficients per output. A tiny ridge (1e-9 relative) keeps it defined
+/// when the inputs are collinear.
+MatrixXd global_linear_fit(const MatrixXd& u, const MatrixXd& z) {
+  MatrixXd gram = u.transpose() * u;
+  const double ridge = 1e-9 * std::max(gram.diagonal().maxCoeff(), 1.0);
+  gram.diagonal().array() += ridge;
+  return gram.ldlt().solve(u.transpose() * z);
+}
 
 using detail::ProgressCallback;
 
@@ -138,11 +155,18 @@ class Trainer {
     for (int o = 0; o < kOutputs; ++o) {
       s.cv_rmse.push_back(std::sqrt(sse(static_cast<Index>(best), o) / n_) * scale_[sz(o)]);
     }
-    const RidgeDual ridge(phi, z_);
-    const MatrixXd p0 = ridge.consequents(s.lambda);  // kBlock × kOutputs
+    const MatrixXd u = linear_terms();
+    const MatrixXd g = global_linear_fit(u, z_);  // kTerms × kOutputs
+    prior_.assign(static_cast<std::size_t>(kOutputs * kTerms), 0.0);
+    for (int o = 0; o < kOutputs; ++o) {
+      for (int t = 0; t < kTerms; ++t) prior_[sz(o * kTerms + t)] = g(t, o);
+    }
+    const RidgeDual ridge(phi, z_ - u * g);
+    const MatrixXd p0 = ridge.consequents(s.lambda);  // kBlock × kOutputs, deviations from g
     std::vector<double> consequents(static_cast<std::size_t>(kOutputs * kBlock));
     for (int o = 0; o < kOutputs; ++o) {
-      for (int k = 0; k < kBlock; ++k) consequents[sz(o * kBlock + k)] = p0(k, o);
+      for (int k = 0; k < kBlock; ++k)
+        consequents[sz(o * kBlock + k)] = g(k % kTerms, o) + p0(k, o);
     }
     const Model init = make_model(premise, consequents);
     s.init_train_rmse = train_rmse(init);
@@ -249,6 +273,16 @@ class Trainer {
     return premise;
   }
 
+  /// U (N × kTerms): row n = [1, x_n], the regressors of the global first-order model.
+  MatrixXd linear_terms() const {
+    MatrixXd u(static_cast<Index>(x_.size()), kTerms);
+    for (std::size_t k = 0; k < x_.size(); ++k) {
+      u(static_cast<Index>(k), 0) = 1.0;
+      for (int i = 0; i < kInputs; ++i) u(static_cast<Index>(k), 1 + i) = x_[k][sz(i)];
+    }
+    return u;
+  }
+
   /// Φ (N × kBlock): row n = ᾱ_j(x_n)·[1, x_n] for every rule j, the consequent layout.
   MatrixXd design_matrix(const std::vector<double>& premise) const {
     using Net = fuzzy::TskEvaluator<double, kInputs, kSets, 1>;
@@ -272,6 +306,7 @@ class Trainer {
   /// Sum of squared CV errors [normalised], rows = grid values, columns = outputs.
   MatrixXd cross_validate(const MatrixXd& phi, const std::vector<double>& grid) const {
     const std::size_t n = x_.size();
+    const MatrixXd u = linear_terms();
     const auto folds = static_cast<std::size_t>(options_.folds);
     std::vector<std::size_t> order(n);
     for (std::size_t k = 0; k < n; ++k) order[k] = k;
@@ -297,10 +332,19 @@ class Trainer {
         phi_te.row(static_cast<Index>(r)) = phi.row(test[r]);
         z_te.row(static_cast<Index>(r)) = z_.row(test[r]);
       }
-      const RidgeDual ridge(phi_tr, z_tr);
+      // The prior is refitted on the fold's training part too, so CV scores the whole fit.
+      MatrixXd u_tr(static_cast<Index>(train.size()), kTerms);
+      MatrixXd u_te(static_cast<Index>(test.size()), kTerms);
+      for (std::size_t r = 0; r < train.size(); ++r)
+        u_tr.row(static_cast<Index>(r)) = u.row(train[r]);
+      for (std::size_t r = 0; r < test.size(); ++r)
+        u_te.row(static_cast<Index>(r)) = u.row(test[r]);
+      const MatrixXd prior = global_linear_fit(u_tr, z_tr);
+      const RidgeDual ridge(phi_tr, z_tr - u_tr * prior);
       const MatrixXd cross = phi_te * phi_tr.transpose();
+      const MatrixXd base = u_te * prior;
       for (std::size_t g = 0; g < grid.size(); ++g) {
-        const MatrixXd err = cross * ridge.dual(grid[g]) - z_te;
+        const MatrixXd err = base + cross * ridge.dual(grid[g]) - z_te;
         sse.row(static_cast<Index>(g)) += err.colwise().squaredNorm();
       }
     }
@@ -368,8 +412,9 @@ class Trainer {
     }
     if (lambda > 0.0) {
       for (int b = 0; b < kOutputs * kRules; ++b) {
+        const double* prior = prior_.data() + (b / kRules) * kTerms;
         problem.AddResidualBlock(
-            new RidgeCost<kTerms>(lambda), nullptr, consequents.data() + b * kTerms);
+            new RidgeCost<kTerms>(lambda, prior), nullptr, consequents.data() + b * kTerms);
       }
     }
   }
@@ -499,6 +544,7 @@ class Trainer {
   std::vector<std::array<double, kInputs>> x_;  ///< normalised inputs
   MatrixXd z_;                                  ///< normalised targets, N × kOutputs
   std::array<double, kOutputs> mean_{}, scale_{};
+  std::vector<double> prior_;  ///< global linear fit per output, kTerms each (normalised units)
 };
 
 }  // namespace
