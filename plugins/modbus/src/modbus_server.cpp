@@ -1,0 +1,333 @@
+// SPDX-License-Identifier: MIT
+/// @file ModbusServer: libmodbus framing and sockets around ModbusRequestHandler.
+#include <fcntl.h>
+#include <modbus.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/plugins/modbus_server.hpp>
+#include <cstring>
+#include <vector>
+
+namespace cmmcomp::plugins {
+
+namespace {
+
+bool all_digits(const std::string& s) {
+  if (s.empty()) return false;
+  for (char c : s) {
+    if (c < '0' || c > '9') return false;
+  }
+  return true;
+}
+
+[[noreturn]] void bad_endpoint(const std::string& text, const std::string& why) {
+  throw ConfigError("Modbus endpoint '" + text + "': " + why +
+                    " (expected tcp:HOST:PORT or rtu:DEVICE:BAUD[,8N1])");
+}
+
+/// Parses a decimal number in [lo, hi] or throws naming `what`.
+int parse_int(const std::string& text, const std::string& s, const char* what, long lo, long hi) {
+  if (!all_digits(s) || s.size() > 9) {
+    bad_endpoint(text, std::string(what) + " '" + s + "' is not a number");
+  }
+  const long v = std::stol(s);
+  if (v < lo || v > hi) {
+    bad_endpoint(text,
+                 std::string(what) + " must be " + std::to_string(lo) + ".." + std::to_string(hi) +
+                     ", not " + s);
+  }
+  return static_cast<int>(v);
+}
+
+std::string errno_text(int err) { return modbus_strerror(err); }
+
+}  // namespace
+
+// ---- endpoint ----------------------------------------------------------------------------------
+
+ModbusEndpoint ModbusEndpoint::parse(const std::string& text) {
+  ModbusEndpoint e;
+  if (text.rfind("tcp:", 0) == 0) {
+    e.kind = Kind::kTcp;
+    const std::string rest = text.substr(4);
+    std::string port;
+    if (!rest.empty() && rest[0] == '[') {  // [IPv6]:PORT
+      const std::size_t close = rest.find(']');
+      if (close == std::string::npos || close + 1 >= rest.size() || rest[close + 1] != ':') {
+        bad_endpoint(text, "an IPv6 address must be written [ADDRESS]:PORT");
+      }
+      e.host = rest.substr(1, close - 1);
+      port = rest.substr(close + 2);
+    } else {
+      const std::size_t colon = rest.rfind(':');
+      if (colon == std::string::npos) bad_endpoint(text, "no port after the host");
+      e.host = rest.substr(0, colon);
+      port = rest.substr(colon + 1);
+    }
+    if (e.host.empty()) bad_endpoint(text, "the host is empty");
+    e.port = parse_int(text, port, "port", 1, 65535);
+    return e;
+  }
+  if (text.rfind("rtu:", 0) == 0) {
+    e.kind = Kind::kRtu;
+    const std::string rest = text.substr(4);
+    const std::size_t colon = rest.rfind(':');
+    if (colon == std::string::npos) bad_endpoint(text, "no baud rate after the device");
+    e.device = rest.substr(0, colon);
+    if (e.device.empty()) bad_endpoint(text, "the serial device is empty");
+    std::string settings = rest.substr(colon + 1);
+    std::string framing = "8E1";
+    const std::size_t comma = settings.find(',');
+    if (comma != std::string::npos) {
+      framing = settings.substr(comma + 1);
+      settings = settings.substr(0, comma);
+    }
+    e.baud = parse_int(text, settings, "baud rate", 50, 4000000);
+    if (framing.size() != 3 || (framing[0] != '7' && framing[0] != '8') ||
+        (framing[2] != '1' && framing[2] != '2')) {
+      bad_endpoint(text, "framing '" + framing + "' is not DATA PARITY STOP, e.g. 8N1 or 8E1");
+    }
+    const char parity = framing[1] == 'n'   ? 'N'
+                        : framing[1] == 'e' ? 'E'
+                        : framing[1] == 'o' ? 'O'
+                                            : framing[1];
+    if (parity != 'N' && parity != 'E' && parity != 'O') {
+      bad_endpoint(text, std::string("parity '") + framing[1] + "' is not N, E or O");
+    }
+    e.data_bits = framing[0] - '0';
+    e.parity = parity;
+    e.stop_bits = framing[2] - '0';
+    return e;
+  }
+  bad_endpoint(text, "unknown transport");
+}
+
+std::string ModbusEndpoint::to_string() const {
+  if (kind == Kind::kTcp) {
+    const bool v6 = host.find(':') != std::string::npos;
+    return "tcp:" + (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
+  }
+  return "rtu:" + device + ":" + std::to_string(baud) + "," + std::to_string(data_bits) + parity +
+         std::to_string(stop_bits);
+}
+
+bool ModbusServerOptions::is_valid(std::string* why) const {
+  const auto fail = [why](const char* reason) {
+    if (why != nullptr) *why = reason;
+    return false;
+  };
+  if (unit_id < 1 || unit_id > 247) return fail("unit_id must be 1..247");
+  if (max_tcp_clients < 1 || max_tcp_clients > 1024) return fail("max_tcp_clients must be 1..1024");
+  if (byte_timeout_ms < 1 || byte_timeout_ms > 10000)
+    return fail("byte_timeout_ms must be 1..10000");
+  if (poll_interval_ms < 1 || poll_interval_ms > 1000) {
+    return fail("poll_interval_ms must be 1..1000");
+  }
+  return true;
+}
+
+// ---- server ------------------------------------------------------------------------------------
+
+struct ModbusServer::Impl {
+  Impl(const compensation::MoveCompensator& compensator,
+       const ModbusEndpoint& ep,
+       const ModbusServerOptions& opts)
+      : endpoint(ep),
+        options(opts),
+        handler(
+            compensator,
+            static_cast<std::uint8_t>(opts.unit_id),
+            ep.kind == ModbusEndpoint::Kind::kTcp ? ModbusTransport::kTcp : ModbusTransport::kRtu) {
+    mapping.tab_registers = handler.holding().data();
+    mapping.nb_registers = modbus_map::kHoldingCount;
+    mapping.tab_input_registers = handler.input().data();
+    mapping.nb_input_registers = modbus_map::kInputCount;
+  }
+
+  ~Impl() {
+    if (ctx != nullptr) {
+      modbus_set_socket(ctx, tcp() ? -1 : serial_fd);  // our client sockets are closed below
+      if (!tcp()) modbus_close(ctx);
+      modbus_free(ctx);
+    }
+    for (int fd : clients) ::close(fd);
+    if (listen_fd >= 0) ::close(listen_fd);
+  }
+
+  bool tcp() const { return endpoint.kind == ModbusEndpoint::Kind::kTcp; }
+
+  std::string where() const {
+    if (tcp()) {
+      return "Modbus TCP " + endpoint.host + ":" + std::to_string(endpoint.port) + ", unit " +
+             std::to_string(options.unit_id);
+    }
+    return "Modbus RTU " + endpoint.device + " " + std::to_string(endpoint.baud) + " " +
+           std::to_string(endpoint.data_bits) + endpoint.parity +
+           std::to_string(endpoint.stop_bits) + ", unit " + std::to_string(options.unit_id);
+  }
+
+  void open() {
+    const std::string name = where();
+    if (tcp()) {
+      const std::string port = std::to_string(endpoint.port);
+      ctx = modbus_new_tcp_pi(endpoint.host.c_str(), port.c_str());
+      if (ctx == nullptr) throw Error(name + ": cannot create the context: " + errno_text(errno));
+      listen_fd = modbus_tcp_pi_listen(ctx, options.max_tcp_clients);
+      if (listen_fd < 0) throw Error(name + ": cannot listen: " + errno_text(errno));
+      ::fcntl(listen_fd, F_SETFD, FD_CLOEXEC);
+      clients.reserve(static_cast<std::size_t>(options.max_tcp_clients));
+    } else {
+      ctx = modbus_new_rtu(endpoint.device.c_str(),
+                           endpoint.baud,
+                           endpoint.parity,
+                           endpoint.data_bits,
+                           endpoint.stop_bits);
+      if (ctx == nullptr) throw Error(name + ": invalid serial settings: " + errno_text(errno));
+      if (modbus_set_slave(ctx, options.unit_id) != 0 || modbus_connect(ctx) != 0) {
+        throw Error(name + ": cannot open " + endpoint.device + ": " + errno_text(errno));
+      }
+      serial_fd = modbus_get_socket(ctx);
+    }
+    const auto us = static_cast<std::uint32_t>(options.byte_timeout_ms) * 1000u;
+    modbus_set_byte_timeout(ctx, us / 1000000u, us % 1000000u);
+    modbus_set_indication_timeout(ctx, us / 1000000u, us % 1000000u);
+    header_length = modbus_get_header_length(ctx);
+    checksum_length = tcp() ? 0 : 2;
+    fds.reserve(static_cast<std::size_t>(options.max_tcp_clients) + 1);
+  }
+
+  void run(const std::atomic<bool>& stop) {
+    while (!stop.load(std::memory_order_relaxed)) {
+      fds.clear();  // capacity reserved in open(): no allocation here
+      if (tcp()) {
+        fds.push_back({listen_fd, POLLIN, 0});
+        for (int fd : clients) fds.push_back({fd, POLLIN, 0});
+      } else {
+        fds.push_back({serial_fd, POLLIN, 0});
+      }
+      const int n = ::poll(fds.data(), static_cast<nfds_t>(fds.size()), options.poll_interval_ms);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        throw Error(where() + ": poll failed: " + errno_text(errno));
+      }
+      if (n == 0) continue;
+      if (!tcp()) {
+        if ((fds[0].revents & POLLIN) != 0) {
+          serve_frame(serial_fd);
+        } else if ((fds[0].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
+          throw Error(where() + ": the serial device hung up or failed");
+        }
+        continue;
+      }
+      // Clients first (their indexes in `fds` match `clients` before accept changes it).
+      for (std::size_t i = fds.size(); i-- > 1;) {
+        if (fds[i].revents == 0) continue;
+        if (!serve_client(fds[i].fd)) drop_client(i - 1);
+      }
+      if ((fds[0].revents & POLLIN) != 0) accept_client();
+    }
+  }
+
+  void accept_client() {
+    const int fd = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC);
+    if (fd < 0) return;  // the peer gave up already, or out of descriptors: try again later
+    if (clients.size() >= static_cast<std::size_t>(options.max_tcp_clients)) {
+      ::close(fd);
+      handler.note_client_refused();
+      return;
+    }
+    const int one = 1;
+    ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    clients.push_back(fd);
+    handler.note_client_connected();
+  }
+
+  void drop_client(std::size_t index) {
+    ::close(clients[index]);
+    clients[index] = clients.back();
+    clients.pop_back();
+    handler.note_client_closed();
+  }
+
+  /// Serves what is readable on a client socket; false when the client must be dropped.
+  bool serve_client(int fd) {
+    // A peer that closed between frames is a normal end, not a receive error.
+    std::uint8_t probe = 0;
+    const ssize_t peek = ::recv(fd, &probe, 1, MSG_PEEK | MSG_DONTWAIT);
+    if (peek == 0) return false;
+    if (peek < 0) {
+      if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return true;
+      return false;  // reset by the peer
+    }
+    return serve_frame(fd);
+  }
+
+  /// Receives one frame on `fd` and answers it; false when the connection is unusable.
+  bool serve_frame(int fd) {
+    modbus_set_socket(ctx, fd);
+    const int length = modbus_receive(ctx, query.data());
+    if (length == 0) return true;  // RTU: another unit's frame, ignored
+    if (length < 0) {
+      handler.note_receive_error();  // truncated, timed out mid-frame, bad CRC or peer gone
+      if (!tcp()) modbus_flush(ctx);
+      return !tcp();
+    }
+    const int pdu_length = length - header_length - checksum_length;
+    const ModbusDecision d =
+        handler.handle(query[static_cast<std::size_t>(header_length - 1)],
+                       query.data() + header_length,
+                       pdu_length > 0 ? static_cast<std::size_t>(pdu_length) : 0);
+    int sent = 0;
+    switch (d.kind) {
+      case ModbusDecision::Kind::kReply:
+        sent = modbus_reply(ctx, query.data(), length, &mapping);
+        if (sent < 0) handler.note_reply_failed();
+        break;
+      case ModbusDecision::Kind::kException:
+        sent = modbus_reply_exception(ctx, query.data(), d.exception);
+        break;
+      case ModbusDecision::Kind::kSilent:
+        break;
+    }
+    return sent >= 0 || !tcp();
+  }
+
+  ModbusEndpoint endpoint;
+  ModbusServerOptions options;
+  ModbusRequestHandler handler;
+  modbus_mapping_t mapping{};
+  modbus_t* ctx = nullptr;
+  int listen_fd = -1;
+  int serial_fd = -1;
+  int header_length = 0;
+  int checksum_length = 0;
+  std::vector<int> clients;
+  std::vector<pollfd> fds;
+  std::array<std::uint8_t, MODBUS_MAX_ADU_LENGTH> query{};
+};
+
+ModbusServer::ModbusServer(const compensation::MoveCompensator& compensator,
+                           const ModbusEndpoint& endpoint,
+                           const ModbusServerOptions& options) {
+  std::string why;
+  if (!options.is_valid(&why)) throw ConfigError("ModbusServerOptions: " + why);
+  impl_ = std::make_unique<Impl>(compensator, endpoint, options);
+  impl_->open();
+}
+
+ModbusServer::~ModbusServer() = default;
+
+std::string ModbusServer::where() const { return impl_->where(); }
+
+void ModbusServer::run(const std::atomic<bool>& stop) { impl_->run(stop); }
+
+ModbusCounters ModbusServer::counters() const noexcept { return impl_->handler.counters(); }
+
+}  // namespace cmmcomp::plugins

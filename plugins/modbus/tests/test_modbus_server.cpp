@@ -1,0 +1,432 @@
+// SPDX-License-Identifier: MIT
+/// @file ModbusServer with libmodbus clients: loopback TCP (normal request, exceptions 02 and 03,
+/// no model, 8 concurrent clients under a hot swap, a client dropping mid-frame, client limit)
+/// and RTU over a pseudo-terminal pair made by socat.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmmcomp/plugins/modbus_server.hpp>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "modbus_test_support.hpp"
+
+namespace {
+
+using namespace cmmcomp;
+using namespace cmmcomp::plugins;
+namespace map = cmmcomp::plugins::modbus_map;
+
+/// Expected result of test::example_model() (or `c0`-shifted variants) at `m`: exact in binary32.
+void expect_example_result(const map::Result& r,
+                           const compensation::MoveRequest& m,
+                           double shift = 0.0) {
+  const double x = (static_cast<double>(static_cast<float>(m.pv_mm_s)) - 5.0) / 75.0;
+  EXPECT_FLOAT_EQ(static_cast<float>(r.mpe_um), static_cast<float>(shift + 10.0 + 2.0 * x));
+  EXPECT_FLOAT_EQ(static_cast<float>(r.rpe_um), static_cast<float>(shift - 2.0 + x));
+  EXPECT_FLOAT_EQ(static_cast<float>(r.mae_um), static_cast<float>(shift + 4.0 + 2.0 * x));
+  const double rae = shift + 1.5 + x;
+  EXPECT_FLOAT_EQ(static_cast<float>(r.rae_um), static_cast<float>(rae));
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(r.correction_um[k],
+                rae * static_cast<double>(static_cast<float>(m.direction[k])),
+                1e-5 * (1.0 + std::abs(rae)));
+  }
+}
+
+class ModbusServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_EQ(comp_.publish(0, test::example_model(), test::kExampleModelId), Status::kOk);
+  }
+  compensation::MoveCompensator comp_;
+};
+
+TEST_F(ModbusServerTest, RequestAndResultMatchTheClosedForm) {
+  test::LoopbackServer server(comp_);
+  EXPECT_EQ(server.server().where(),
+            "Modbus TCP 127.0.0.1:" + std::to_string(server.port()) + ", unit 1");
+  test::Client c = test::connect_client(server.port());
+  ASSERT_EQ(test::write_request(c.get(), test::example_request()), map::kRequestCount)
+      << modbus_strerror(errno);
+  map::InputRegisters in{};
+  ASSERT_TRUE(test::read_inputs(c.get(), in)) << modbus_strerror(errno);
+  const map::Result r = map::decode_result(in);
+  EXPECT_EQ(r.sequence, 7);
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.flags, compensation::kFlagOk);
+  EXPECT_EQ(r.mpe_um, 11.0);
+  EXPECT_EQ(r.rpe_um, -1.5);
+  EXPECT_EQ(r.mae_um, 5.0);
+  EXPECT_EQ(r.rae_um, 2.0);
+  EXPECT_EQ(r.correction_um[0], static_cast<double>(1.2f));
+  EXPECT_EQ(r.correction_um[2], static_cast<double>(-1.6f));
+  EXPECT_EQ(r.model_id, test::kExampleModelId);
+  EXPECT_EQ(in[map::kProtocolVersionReg], map::kProtocolVersion);
+  EXPECT_EQ(map::get_u64(&in[map::kModelIdAxis0]), test::kExampleModelId);
+  // The request reads back from the holding registers.
+  map::HoldingRegisters h{};
+  ASSERT_EQ(modbus_read_registers(c.get(), 0, map::kHoldingCount, h.data()), map::kHoldingCount);
+  EXPECT_EQ(map::get_f32(&h[map::kPv]), 42.5f);
+  EXPECT_EQ(h[map::kResultCopy], 7);
+}
+
+TEST_F(ModbusServerTest, IllegalAddressIsException02) {
+  test::LoopbackServer server(comp_);
+  test::Client c = test::connect_client(server.port());
+  std::uint16_t regs[4] = {};
+  EXPECT_EQ(modbus_read_registers(c.get(), map::kHoldingCount, 1, regs), -1);
+  EXPECT_EQ(errno, EMBXILADD);
+  EXPECT_EQ(modbus_read_input_registers(c.get(), map::kInputCount - 1, 2, regs), -1);
+  EXPECT_EQ(errno, EMBXILADD);
+  EXPECT_EQ(modbus_write_register(c.get(), map::kResultCopy, 1), -1);  // read-only copy
+  EXPECT_EQ(errno, EMBXILADD);
+  std::uint8_t bits[1] = {};
+  EXPECT_EQ(modbus_read_bits(c.get(), 0, 1, bits), -1);
+  EXPECT_EQ(errno, EMBXILFUN);
+  // The connection stays usable after exceptions.
+  map::InputRegisters in{};
+  EXPECT_TRUE(test::read_inputs(c.get(), in));
+  EXPECT_EQ(server.server().counters().exceptions, 4u);
+}
+
+TEST_F(ModbusServerTest, NanIsException03AndTheOldResultStays) {
+  test::LoopbackServer server(comp_);
+  test::Client c = test::connect_client(server.port());
+  ASSERT_EQ(test::write_request(c.get(), test::example_request()), map::kRequestCount);
+  compensation::MoveRequest bad = test::example_request();
+  bad.sequence = 8;
+  bad.pd_mm = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(test::write_request(c.get(), bad), -1);
+  EXPECT_EQ(errno, EMBXILVAL);
+  bad.pd_mm = 20.0;
+  bad.ad_mm = -1.0;  // out of range
+  EXPECT_EQ(test::write_request(c.get(), bad), -1);
+  EXPECT_EQ(errno, EMBXILVAL);
+  EXPECT_EQ(modbus_write_register(c.get(), map::kAxis, 9), -1);
+  EXPECT_EQ(errno, EMBXILVAL);
+
+  map::InputRegisters in{};
+  ASSERT_TRUE(test::read_inputs(c.get(), in));
+  const map::Result r = map::decode_result(in);
+  EXPECT_EQ(r.sequence, 7);  // the last good request's result, whole
+  EXPECT_EQ(r.flags, compensation::kFlagOk);
+  EXPECT_EQ(r.rae_um, 2.0);
+  EXPECT_EQ(map::get_u32(&in[map::kRejected]), 3u);
+  map::HoldingRegisters h{};
+  ASSERT_EQ(modbus_read_registers(c.get(), 0, map::kRequestCount, h.data()), map::kRequestCount);
+  EXPECT_EQ(map::get_f32(&h[map::kPd]), 20.0f);  // the refused writes changed nothing
+  EXPECT_EQ(h[map::kAxis], 0);
+  EXPECT_EQ(h[map::kSequence], 7);
+}
+
+TEST_F(ModbusServerTest, NoModelIsReportedInTheStatus) {
+  test::LoopbackServer server(comp_);
+  test::Client c = test::connect_client(server.port());
+  compensation::MoveRequest m = test::example_request();
+  m.axis = 1;
+  m.sequence = 100;
+  map::Result r;
+  ASSERT_TRUE(test::transact(c.get(), m, r)) << modbus_strerror(errno);
+  EXPECT_EQ(r.sequence, 100);
+  EXPECT_EQ(r.axis, 1);
+  EXPECT_EQ(r.status, static_cast<std::int16_t>(Status::kNoModel));
+  EXPECT_EQ(r.flags, compensation::kFlagNoModel);
+  EXPECT_EQ(r.rae_um, 0.0);
+}
+
+TEST_F(ModbusServerTest, EightConcurrentClientsDuringHotSwaps) {
+  constexpr double kShift = 100.0;  // the second model adds 100 µm to every output
+  const auto shifted = test::linear_model({110.0, 98.0, 104.0, 101.5}, {2.0, 1.0, 2.0, 1.0});
+  constexpr std::uint64_t kShiftedId = 0xBEEFull;
+  test::LoopbackServer server(comp_);
+  constexpr int kClients = 8;
+  constexpr int kRequests = 300;
+  std::atomic<int> good{0};
+  std::atomic<bool> done{false};
+  std::vector<std::thread> clients;
+  for (int id = 0; id < kClients; ++id) {
+    clients.emplace_back([&, id] {
+      test::Client c = test::connect_client(server.port());
+      for (int i = 0; i < kRequests; ++i) {
+        compensation::MoveRequest m = test::example_request();
+        m.sequence = static_cast<std::uint32_t>(id * 1000 + i);
+        m.pv_mm_s = 6.0 + id * 8.0 + i * 0.01;  // each client its own move
+        map::Result r;
+        if (!test::transact(c.get(), m, r)) {
+          ADD_FAILURE() << "client " << id << " request " << i << ": " << modbus_strerror(errno);
+          return;
+        }
+        EXPECT_EQ(r.sequence, m.sequence);
+        ASSERT_TRUE(r.model_id == test::kExampleModelId || r.model_id == kShiftedId);
+        expect_example_result(r, m, r.model_id == kShiftedId ? kShift : 0.0);
+        ++good;
+      }
+    });
+  }
+  // Publish the two models alternately while the clients run: every result is one model's, whole.
+  int swaps = 0;
+  std::thread swapper([&] {
+    while (!done) {
+      const bool odd = (swaps++ % 2) == 0;
+      EXPECT_EQ(
+          comp_.publish(
+              0, odd ? shifted : test::example_model(), odd ? kShiftedId : test::kExampleModelId),
+          Status::kOk);
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  });
+  for (auto& t : clients) t.join();
+  done = true;
+  swapper.join();
+  EXPECT_EQ(good, kClients * kRequests);
+  EXPECT_GT(swaps, 2);
+  const ModbusCounters n = server.server().counters();
+  EXPECT_EQ(n.clients_connected, static_cast<std::uint64_t>(kClients));
+  EXPECT_EQ(n.computations, static_cast<std::uint64_t>(kClients * kRequests));
+}
+
+/// A raw TCP connection to 127.0.0.1:`port` (for frames libmodbus would not send).
+int raw_connect(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+TEST_F(ModbusServerTest, ClientDroppingMidFrameDoesNotDisturbOthers) {
+  test::LoopbackServer server(comp_);
+  test::Client steady = test::connect_client(server.port());
+  std::atomic<bool> done{false};
+  std::atomic<int> good{0};
+  std::thread worker([&] {
+    for (std::uint32_t i = 0; !done || i < 50; ++i) {
+      compensation::MoveRequest m = test::example_request();
+      m.sequence = i;
+      map::Result r;
+      if (!test::transact(steady.get(), m, r)) {
+        ADD_FAILURE() << "steady client failed: " << modbus_strerror(errno);
+        return;
+      }
+      EXPECT_EQ(r.sequence, static_cast<std::uint16_t>(i));
+      EXPECT_EQ(r.rae_um, 2.0);
+      ++good;
+    }
+  });
+  const std::vector<std::uint8_t> frame = test::hex(test::kExampleWriteAdu);
+  for (int k = 0; k < 5; ++k) {
+    // Half an MBAP header, then gone.
+    const int a = raw_connect(server.port());
+    ASSERT_GE(a, 0);
+    ASSERT_EQ(::send(a, frame.data(), 4, MSG_NOSIGNAL), 4);
+    ::close(a);
+    // Half a request body, then gone.
+    const int b = raw_connect(server.port());
+    ASSERT_GE(b, 0);
+    ASSERT_EQ(::send(b, frame.data(), 20, MSG_NOSIGNAL), 20);
+    ::close(b);
+  }
+  // One that stalls mid-frame: dropped after the byte timeout, the others go on.
+  const int stall = raw_connect(server.port());
+  ASSERT_GE(stall, 0);
+  ASSERT_EQ(::send(stall, frame.data(), 10, MSG_NOSIGNAL), 10);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  done = true;
+  worker.join();
+  ::close(stall);
+  EXPECT_GE(good, 50);
+  // Poll until the server has noticed every close.
+  ModbusCounters n{};
+  for (int i = 0; i < 100; ++i) {
+    n = server.server().counters();
+    if (n.clients_active == 1) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(n.clients_active, 1u);  // only the steady client
+  EXPECT_EQ(n.clients_connected, 12u);
+  EXPECT_GE(n.receive_errors, 6u);  // the stalled one and at least the body-cut ones
+  // The steady client still works.
+  map::Result r;
+  ASSERT_TRUE(test::transact(steady.get(), test::example_request(), r));
+  EXPECT_EQ(r.sequence, 7);
+}
+
+TEST_F(ModbusServerTest, ClientsBeyondTheLimitAreClosed) {
+  ModbusServerOptions options;
+  options.max_tcp_clients = 2;
+  test::LoopbackServer server(comp_, options);
+  test::Client a = test::connect_client(server.port());
+  test::Client b = test::connect_client(server.port());
+  map::InputRegisters in{};
+  ASSERT_TRUE(test::read_inputs(a.get(), in));
+  ASSERT_TRUE(test::read_inputs(b.get(), in));
+  test::Client extra = test::connect_client(server.port());  // the kernel completes the handshake
+  modbus_set_response_timeout(extra.get(), 0, 300000);
+  EXPECT_FALSE(test::read_inputs(extra.get(), in));
+  EXPECT_TRUE(test::read_inputs(a.get(), in));
+  EXPECT_EQ(server.server().counters().clients_refused, 1u);
+}
+
+TEST_F(ModbusServerTest, PortInUseIsAClearError) {
+  test::LoopbackServer server(comp_);
+  try {
+    ModbusServer second(comp_,
+                        ModbusEndpoint::parse("tcp:127.0.0.1:" + std::to_string(server.port())));
+    FAIL() << "a second server bound the same port";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot listen: Address already in use"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(ModbusServerTest, StopIsNoticedQuickly) {
+  test::LoopbackServer server(comp_);
+  const auto t0 = std::chrono::steady_clock::now();
+  server.stop();
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
+          .count();
+  EXPECT_LT(ms, 200);  // poll interval 50 ms; slack for a loaded 2-core machine
+}
+
+// ---- RTU over a pseudo-terminal pair ------------------------------------------------------------
+
+/// `socat -d -d pty,raw,echo=0 pty,raw,echo=0`, started by this test and killed by it.
+class PtyPair {
+ public:
+  PtyPair() {
+    int err[2];
+    if (::pipe(err) != 0) throw Error("pipe failed");
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(err[1], 2);
+      ::close(err[0]);
+      ::close(err[1]);
+      ::execlp("socat",
+               "socat",
+               "-d",
+               "-d",
+               "pty,raw,echo=0",
+               "pty,raw,echo=0",
+               static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(err[1]);
+    // socat prints "... N PTY is /dev/pts/K" for each end, then "starting data transfer loop".
+    FILE* in = ::fdopen(err[0], "r");
+    char line[512];
+    while ((a_.empty() || b_.empty()) && std::fgets(line, sizeof line, in) != nullptr) {
+      const char* p = std::strstr(line, "PTY is ");
+      if (p == nullptr) continue;
+      std::string name(p + 7);
+      while (!name.empty() && (name.back() == '\n' || name.back() == '\r')) name.pop_back();
+      (a_.empty() ? a_ : b_) = name;
+    }
+    std::fclose(in);  // socat keeps running; its later messages go to a closed pipe: fine
+    if (a_.empty() || b_.empty()) throw Error("socat did not print two PTY names");
+  }
+  ~PtyPair() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGTERM);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  PtyPair(const PtyPair&) = delete;
+  PtyPair& operator=(const PtyPair&) = delete;
+  const std::string& a() const { return a_; }
+  const std::string& b() const { return b_; }
+
+ private:
+  pid_t pid_ = -1;
+  std::string a_, b_;
+};
+
+TEST_F(ModbusServerTest, RtuOverAPseudoTerminalPair) {
+  ::signal(SIGPIPE, SIG_IGN);  // socat's stderr pipe is closed after the names are read
+  PtyPair pty;
+  ModbusServerOptions options;
+  options.unit_id = 5;
+  const ModbusEndpoint endpoint = ModbusEndpoint::parse("rtu:" + pty.a() + ":115200,8N1");
+  ModbusServer server(comp_, endpoint, options);
+  EXPECT_EQ(server.where(), "Modbus RTU " + pty.a() + " 115200 8N1, unit 5");
+  std::atomic<bool> stop{false};
+  std::thread serving([&] { server.run(stop); });
+
+  test::Client c(modbus_new_rtu(pty.b().c_str(), 115200, 'N', 8, 1));
+  ASSERT_TRUE(c);
+  ASSERT_EQ(modbus_connect(c.get()), 0) << modbus_strerror(errno);
+  modbus_set_response_timeout(c.get(), 1, 0);
+  modbus_set_slave(c.get(), 5);
+  for (std::uint32_t i = 0; i < 20; ++i) {
+    compensation::MoveRequest m = test::example_request();
+    m.sequence = 500 + i;
+    m.pv_mm_s = 10.0 + i;
+    ASSERT_EQ(test::write_request(c.get(), m), map::kRequestCount) << modbus_strerror(errno);
+    map::InputRegisters in{};
+    ASSERT_TRUE(test::read_inputs(c.get(), in)) << modbus_strerror(errno);
+    const map::Result r = map::decode_result(in);
+    EXPECT_EQ(r.sequence, m.sequence);
+    expect_example_result(r, m);
+  }
+  // Exceptions travel over RTU too.
+  std::uint16_t regs[2] = {};
+  EXPECT_EQ(modbus_read_registers(c.get(), map::kHoldingCount, 1, regs), -1);
+  EXPECT_EQ(errno, EMBXILADD);
+  // Another unit's frame is ignored (no answer: the client times out). libmodbus then treats
+  // the next frame on the bus as that unit's answer and skips it too, so play unit 6's answer
+  // (as on a real multi-drop line); then unit 5 answers again.
+  modbus_set_slave(c.get(), 6);
+  modbus_set_response_timeout(c.get(), 0, 200000);
+  EXPECT_EQ(modbus_read_input_registers(c.get(), 0, 1, regs), -1);
+  const std::uint8_t unit6_answer[] = {6, 0x04, 0x02, 0x00, 0x01};
+  ASSERT_GT(modbus_send_raw_request(c.get(), unit6_answer, sizeof unit6_answer), 0);
+  modbus_set_slave(c.get(), 5);
+  modbus_set_response_timeout(c.get(), 1, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  modbus_flush(c.get());
+  EXPECT_EQ(modbus_read_input_registers(c.get(), 0, 1, regs), 1) << modbus_strerror(errno);
+  EXPECT_EQ(regs[0], map::kProtocolVersion);
+
+  stop = true;
+  serving.join();
+  EXPECT_GE(server.counters().computations, 20u);
+}
+
+TEST(ModbusServerErrors, MissingSerialDeviceIsAClearError) {
+  compensation::MoveCompensator comp;
+  try {
+    ModbusServer s(comp, ModbusEndpoint::parse("rtu:/dev/cmmcomp-no-such-tty:19200"));
+    FAIL() << "opened a device that does not exist";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open /dev/cmmcomp-no-such-tty"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(ModbusServerErrors, InvalidOptionsAreAConfigError) {
+  compensation::MoveCompensator comp;
+  ModbusServerOptions options;
+  options.unit_id = 0;
+  EXPECT_THROW(ModbusServer(comp, ModbusEndpoint::parse("tcp:127.0.0.1:1502"), options),
+               ConfigError);
+}
+
+}  // namespace
