@@ -1,0 +1,271 @@
+// SPDX-License-Identifier: MIT
+/// @file The per-frame state machine of the CAN server: reassembles the three parts of a move
+/// request, asks the compensator, and produces the response or a reject. No socket and no clock
+/// of its own (frames and the time come in as arguments), so it is tested with fake frames.
+///
+/// Rules (docs/protocol-can.md, "Reassembly"): one request is assembled at a time. Part 0 starts
+/// it; part k (1, 2) must follow part k−1 with the same sequence within the part timeout. Every
+/// frame that breaks a rule is answered with a reject frame naming the rule; a request is
+/// answered only from the three parts of that one request, so a response never carries stale
+/// data.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/plugins/can_protocol.hpp>
+#include <cmmcomp/status.hpp>
+#include <cstddef>
+#include <cstdint>
+
+namespace cmmcomp::plugins {
+
+/// What a CAN server has seen and done since it started (docs/protocol-can.md, "Counters").
+struct CanCounters {
+  std::uint64_t frames_in = 0;  ///< request frames received (identifier base + 0)
+  std::uint64_t requests = 0;   ///< requests complete (all three parts) and decoded
+  std::uint64_t answered = 0;   ///< responses sent (three frames each)
+  std::uint64_t rejected = 0;   ///< reject frames sent
+  std::uint64_t malformed =
+      0;  ///< frames with wrong DLC, unknown part, stray sequence or part, reserved bits
+  std::uint64_t timeouts = 0;      ///< requests abandoned because a part came too late
+  std::uint64_t incomplete = 0;    ///< requests abandoned because a new request started
+  std::uint64_t out_of_range = 0;  ///< requests with a field, or results, outside their range
+  std::uint64_t refused = 0;       ///< requests the compensator refused (invalid, no model, domain)
+  std::uint64_t heartbeats = 0;    ///< heartbeats sent (five frames each)
+  std::uint64_t send_errors = 0;   ///< frames the socket did not take
+  std::uint64_t ignored = 0;       ///< frames with other identifiers (0 while the filter works)
+};
+
+namespace can {
+
+/// The frames one call produces: at most two rejects, or one reject and three response frames.
+struct FrameBatch {
+  static constexpr std::size_t kCapacity = 4;
+  std::array<Frame, kCapacity> frames{};
+  std::size_t size = 0;
+
+  /// Appends `f`; a full batch drops it (cannot happen with the handler's bounds). RT-safe.
+  void push(const Frame& f) noexcept {
+    if (size < kCapacity) frames[size++] = f;
+  }
+};
+
+/// Reassembles requests and answers them (see the file comment). Single-threaded: one thread
+/// calls on_frame/on_time; counters() may be read from any thread.
+class RequestHandler {
+ public:
+  /// `compensator` must outlive the handler. `part_timeout` > 0 is the longest gap allowed
+  /// between two parts of a request. Setup only.
+  RequestHandler(const compensation::MoveCompensator& compensator,
+                 std::uint32_t base_id,
+                 std::chrono::nanoseconds part_timeout) noexcept
+      : compensator_(compensator), base_id_(base_id), part_timeout_ns_(part_timeout.count()) {}
+
+  /// Handles one received frame at time `now_ns` (any monotonic clock, ns) and appends the
+  /// frames to send to `out`. Frames with another identifier are counted as ignored. RT-safe:
+  /// no allocation, no exception, no syscall, bounded (one compensator call at most).
+  void on_frame(const Frame& f, std::int64_t now_ns, FrameBatch& out) noexcept {
+    if (f.id != base_id_ + kRequestOffset) {
+      bump(counters_.ignored);
+      return;
+    }
+    bump(counters_.frames_in);
+    on_time(now_ns, out);  // a part that comes after the deadline finds the request expired
+    const std::uint64_t w = load_word(f);
+    const bool readable = f.dlc >= 1;
+    const auto part = static_cast<std::uint8_t>(get_raw(w, request::kPart));
+    const auto sequence = static_cast<std::uint8_t>(get_raw(w, request::kSequence));
+    if (f.dlc != kFrameDlc) {
+      malformed(RejectReason::kWrongDlc, readable, sequence, part, out);
+      return;
+    }
+    if (part >= kRequestParts) {
+      malformed(RejectReason::kUnknownPart, true, sequence, part, out);
+      return;
+    }
+    if (part == 0) {
+      if (assembling_) {
+        bump(counters_.incomplete);
+        reject(RejectReason::kIncomplete, sequence_, next_part_, 0, 0, out);
+      }
+      assembling_ = true;
+      sequence_ = sequence;
+      words_[0] = w;
+      next_part_ = 1;
+      deadline_ns_ = now_ns + part_timeout_ns_;
+      return;
+    }
+    if (!assembling_) {
+      malformed(RejectReason::kMissingPart, true, sequence, part, out, false);
+      return;
+    }
+    if (sequence != sequence_) {  // a stray part of another request; the current one goes on
+      malformed(RejectReason::kSequenceMismatch, true, sequence, part, out, false);
+      return;
+    }
+    if (part != next_part_) {  // a duplicate or a skipped part: the request cannot be trusted
+      malformed(RejectReason::kMissingPart, true, sequence, part, out);
+      return;
+    }
+    words_[part] = w;
+    if (part + 1 < kRequestParts) {
+      next_part_ = static_cast<std::uint8_t>(part + 1);
+      deadline_ns_ = now_ns + part_timeout_ns_;
+      return;
+    }
+    assembling_ = false;
+    answer(out);
+  }
+
+  /// Expires a request whose next part is overdue at `now_ns` (reject kTimeout). Call it when
+  /// the deadline passes without a frame. RT-safe.
+  void on_time(std::int64_t now_ns, FrameBatch& out) noexcept {
+    if (assembling_ && now_ns >= deadline_ns_) {
+      assembling_ = false;
+      bump(counters_.timeouts);
+      reject(RejectReason::kTimeout, sequence_, next_part_, 0, 0, out);
+    }
+  }
+
+  /// True while a request is incomplete; deadline_ns() is then when it expires. RT-safe.
+  bool assembling() const noexcept { return assembling_; }
+  std::int64_t deadline_ns() const noexcept { return deadline_ns_; }
+
+  /// A snapshot of the counters (each counter exact; not one instant across counters). Any
+  /// thread. RT-safe.
+  CanCounters counters() const noexcept {
+    CanCounters c;
+    c.frames_in = counters_.frames_in.load(std::memory_order_relaxed);
+    c.requests = counters_.requests.load(std::memory_order_relaxed);
+    c.answered = counters_.answered.load(std::memory_order_relaxed);
+    c.rejected = counters_.rejected.load(std::memory_order_relaxed);
+    c.malformed = counters_.malformed.load(std::memory_order_relaxed);
+    c.timeouts = counters_.timeouts.load(std::memory_order_relaxed);
+    c.incomplete = counters_.incomplete.load(std::memory_order_relaxed);
+    c.out_of_range = counters_.out_of_range.load(std::memory_order_relaxed);
+    c.refused = counters_.refused.load(std::memory_order_relaxed);
+    c.heartbeats = counters_.heartbeats.load(std::memory_order_relaxed);
+    c.send_errors = counters_.send_errors.load(std::memory_order_relaxed);
+    c.ignored = counters_.ignored.load(std::memory_order_relaxed);
+    return c;
+  }
+
+  /// The heartbeat as of now (tick = heartbeats sent so far) and counts it. RT-safe.
+  HeartbeatInfo next_heartbeat() noexcept {
+    HeartbeatInfo h;
+    h.tick = static_cast<std::uint8_t>(counters_.heartbeats.load(std::memory_order_relaxed) & 0x1F);
+    h.requests = static_cast<std::uint16_t>(counters_.requests.load(std::memory_order_relaxed));
+    h.answered = static_cast<std::uint16_t>(counters_.answered.load(std::memory_order_relaxed));
+    h.rejected = static_cast<std::uint16_t>(counters_.rejected.load(std::memory_order_relaxed));
+    for (int a = 0; a < compensation::kMaxAxes; ++a) {
+      const auto u = static_cast<std::size_t>(a);
+      if (compensator_.has_model(a))
+        h.model_mask = static_cast<std::uint8_t>(h.model_mask | (1u << u));
+      h.model_ids[u] = compensator_.model_id(a);
+    }
+    bump(counters_.heartbeats);
+    return h;
+  }
+
+  /// Counts `n` frames the socket refused. RT-safe.
+  void count_send_errors(std::uint64_t n) noexcept {
+    counters_.send_errors.fetch_add(n, std::memory_order_relaxed);
+  }
+
+ private:
+  struct AtomicCounters {
+    std::atomic<std::uint64_t> frames_in{0}, requests{0}, answered{0}, rejected{0}, malformed{0},
+        timeouts{0}, incomplete{0}, out_of_range{0}, refused{0}, heartbeats{0}, send_errors{0},
+        ignored{0};
+  };
+
+  // One writer thread: a load and a store are enough, and cheaper than a locked add.
+  static void bump(std::atomic<std::uint64_t>& c) noexcept {
+    c.store(c.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+  }
+
+  void reject(RejectReason reason,
+              std::uint8_t sequence,
+              std::uint8_t part,
+              std::uint8_t detail,
+              std::int16_t status,
+              FrameBatch& out) noexcept {
+    bump(counters_.rejected);
+    RejectInfo r;
+    r.reason = reason;
+    r.sequence = sequence;
+    r.part = part;
+    r.detail = detail;
+    r.status = status;
+    r.rejected = static_cast<std::uint16_t>(counters_.rejected.load(std::memory_order_relaxed));
+    out.push(encode_reject(r, base_id_));
+  }
+
+  /// Rejects a frame that breaks a framing rule. With `abandons`, a request being assembled is
+  /// dropped too when the frame may belong to it (same sequence, or the sequence unreadable).
+  void malformed(RejectReason reason,
+                 bool readable,
+                 std::uint8_t sequence,
+                 std::uint8_t part,
+                 FrameBatch& out,
+                 bool abandons = true) noexcept {
+    bump(counters_.malformed);
+    if (abandons && assembling_ && (!readable || sequence == sequence_)) assembling_ = false;
+    reject(reason, readable ? sequence : kUnknown, readable ? part : kUnknown, 0, 0, out);
+  }
+
+  void answer(FrameBatch& out) noexcept {
+    bump(counters_.requests);
+    compensation::MoveRequest move;
+    const RequestCheck check = decode_request(words_, sequence_, move);
+    if (check.reason != RejectReason::kNone) {
+      if (check.reason == RejectReason::kFieldOutOfRange) {
+        bump(counters_.out_of_range);
+      } else {
+        bump(counters_.malformed);
+      }
+      reject(check.reason, sequence_, check.part, static_cast<std::uint8_t>(check.field), 0, out);
+      return;
+    }
+    compensation::Correction c;
+    const Status s = compensator_.before_approach(move, c);
+    if (!ok(s)) {
+      bump(counters_.refused);
+      const RejectReason reason = s == Status::kNoModel ? RejectReason::kNoModel
+                                  : s == Status::kOutsideDomainRejected
+                                      ? RejectReason::kOutsideDomain
+                                      : RejectReason::kInvalidMove;
+      reject(reason, sequence_, kUnknown, 0, static_cast<std::int16_t>(s), out);
+      return;
+    }
+    ResponseFrames frames;
+    ResponseField bad = ResponseField::kNone;
+    if (encode_response(c, move.axis, base_id_, frames, &bad) != Status::kOk) {
+      bump(counters_.out_of_range);
+      reject(RejectReason::kResultOutOfRange,
+             sequence_,
+             kUnknown,
+             static_cast<std::uint8_t>(bad),
+             static_cast<std::int16_t>(s),
+             out);
+      return;
+    }
+    for (const Frame& f : frames) out.push(f);
+    bump(counters_.answered);
+  }
+
+  const compensation::MoveCompensator& compensator_;
+  std::uint32_t base_id_;
+  std::int64_t part_timeout_ns_;
+  bool assembling_ = false;
+  std::uint8_t sequence_ = 0;
+  std::uint8_t next_part_ = 0;
+  std::int64_t deadline_ns_ = 0;
+  std::array<std::uint64_t, kRequestParts> words_{};
+  AtomicCounters counters_;
+};
+
+}  // namespace can
+}  // namespace cmmcomp::plugins

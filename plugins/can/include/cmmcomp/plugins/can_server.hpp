@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+/// @file A raw SocketCAN server (PF_CAN/CAN_RAW) that answers move requests with the
+/// corrections of a compensation::MoveCompensator (protocol: docs/protocol-can.md).
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/plugins/can_protocol.hpp>
+#include <cmmcomp/plugins/can_request_handler.hpp>
+#include <cstdint>
+#include <string>
+
+namespace cmmcomp::plugins {
+
+/// Options of a CanServer, fixed at construction.
+struct CanServerOptions {
+  std::string interface = "vcan0";              ///< CAN network interface (vcan0, can0, …)
+  std::uint32_t base_id = can::kDefaultBaseId;  ///< 11-bit base identifier; base + 3 ≤ 0x7FF
+  /// Longest gap allowed between two parts of a request; > 0.
+  std::chrono::milliseconds part_timeout{50};
+  /// Period of the heartbeat (five frames); 0 turns it off.
+  std::chrono::milliseconds heartbeat_period{1000};
+  /// CAN FD. Not supported yet: true makes the constructor throw.
+  bool fd = false;
+
+  /// True when every field is usable; otherwise false and, if `why` is given, the reason.
+  bool is_valid(std::string* why = nullptr) const;
+};
+
+/// Serves one compensator on one CAN interface from the thread that calls run().
+class CanServer {
+ public:
+  /// Opens a PF_CAN/CAN_RAW socket, keeps only the request identifier (CAN_RAW_FILTER) and
+  /// binds it to `options.interface`. Setup only. Throws cmmcomp::ConfigError for invalid
+  /// options and cmmcomp::Error when the socket cannot be set up, with the reason ("no CAN
+  /// support in this kernel (EAFNOSUPPORT) …", "no such interface vcan9", …).
+  /// `compensator` must outlive the server; models may be published into it at any time.
+  CanServer(const compensation::MoveCompensator& compensator, const CanServerOptions& options);
+  ~CanServer();
+  CanServer(const CanServer&) = delete;
+  CanServer& operator=(const CanServer&) = delete;
+
+  /// Where it serves, e.g. "SocketCAN vcan0, base id 0x300".
+  std::string where() const;
+
+  /// Serves until `stop` becomes true (noticed within 100 ms): answers requests, expires
+  /// incomplete ones, sends the heartbeat. Per frame it allocates nothing and throws nothing.
+  /// Throws cmmcomp::Error only if the socket fails for good (e.g. the interface is deleted).
+  void run(const std::atomic<bool>& stop);
+
+  /// The counters so far. Any thread.
+  CanCounters counters() const noexcept { return handler_.counters(); }
+
+  /// The options given at construction.
+  const CanServerOptions& options() const noexcept { return options_; }
+
+ private:
+  void send(const can::FrameBatch& batch) noexcept;
+  void send_heartbeat() noexcept;
+
+  CanServerOptions options_;
+  can::RequestHandler handler_;
+  int fd_ = -1;
+};
+
+}  // namespace cmmcomp::plugins

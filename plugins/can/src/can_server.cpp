@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: MIT
+#include <fcntl.h>
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/plugins/can_server.hpp>
+#include <cstdio>
+#include <cstring>
+
+namespace cmmcomp::plugins {
+namespace {
+
+std::int64_t now_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+std::string hex_id(std::uint32_t id) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%03X", static_cast<unsigned>(id));
+  return text;
+}
+
+can_frame to_kernel(const can::Frame& f) noexcept {
+  can_frame k{};
+  k.can_id = f.id & CAN_SFF_MASK;
+  k.can_dlc = f.dlc;
+  std::memcpy(k.data, f.data.data(), sizeof k.data);
+  return k;
+}
+
+}  // namespace
+
+bool CanServerOptions::is_valid(std::string* why) const {
+  const auto fail = [why](const char* message) {
+    if (why != nullptr) *why = message;
+    return false;
+  };
+  if (interface.empty() || interface.size() >= IFNAMSIZ) {
+    return fail("interface name is empty or longer than 15 characters");
+  }
+  if (base_id + can::kHeartbeatOffset > can::kMaxStandardId) {
+    return fail("base id + 3 must be an 11-bit identifier (base id <= 0x7FC)");
+  }
+  if (part_timeout.count() <= 0) return fail("part timeout must be > 0");
+  if (heartbeat_period.count() < 0) return fail("heartbeat period must be >= 0 (0: off)");
+  if (fd) return fail("CAN FD is not supported by this version of the plugin");
+  return true;
+}
+
+CanServer::CanServer(const compensation::MoveCompensator& compensator,
+                     const CanServerOptions& options)
+    : options_(options), handler_(compensator, options.base_id, options.part_timeout) {
+  std::string why;
+  if (!options_.is_valid(&why)) throw ConfigError("CAN server options: " + why);
+  fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);
+  if (fd_ < 0) {
+    const int e = errno;
+    if (e == EAFNOSUPPORT) {
+      throw Error(
+          "no CAN support in this kernel (EAFNOSUPPORT): load the can and can-raw modules, or run "
+          "under scripts/uml-run.sh");
+    }
+    throw Error(std::string("cannot open a CAN_RAW socket: ") + std::strerror(e));
+  }
+  const auto fail = [this](const std::string& message) {
+    ::close(fd_);
+    fd_ = -1;
+    throw Error(message);
+  };
+  const unsigned index = ::if_nametoindex(options_.interface.c_str());
+  if (index == 0) fail("no such interface " + options_.interface);
+  // Only the request identifier, standard frames, no remote frames: everything else stays in
+  // the kernel and costs the server nothing.
+  can_filter filter{};
+  filter.can_id = options_.base_id + can::kRequestOffset;
+  filter.can_mask = CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG;
+  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, &filter, sizeof filter) != 0) {
+    fail(std::string("cannot set the CAN filter: ") + std::strerror(errno));
+  }
+  sockaddr_can address{};
+  address.can_family = AF_CAN;
+  address.can_ifindex = static_cast<int>(index);
+  if (::bind(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+    fail("cannot bind to " + options_.interface + ": " + std::strerror(errno));
+  }
+}
+
+CanServer::~CanServer() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+std::string CanServer::where() const {
+  return "SocketCAN " + options_.interface + ", base id " + hex_id(options_.base_id);
+}
+
+void CanServer::send(const can::FrameBatch& batch) noexcept {
+  std::uint64_t errors = 0;
+  for (std::size_t i = 0; i < batch.size; ++i) {
+    const can_frame k = to_kernel(batch.frames[i]);
+    if (::send(fd_, &k, sizeof k, MSG_DONTWAIT) != static_cast<ssize_t>(sizeof k)) ++errors;
+  }
+  if (errors != 0) handler_.count_send_errors(errors);
+}
+
+void CanServer::send_heartbeat() noexcept {
+  const can::HeartbeatInfo h = handler_.next_heartbeat();
+  can::FrameBatch batch;
+  for (std::uint8_t page = 0; page < can::kHeartbeatPages; ++page) {
+    batch.push(can::encode_heartbeat(h, page, options_.base_id));
+    if (batch.size == can::FrameBatch::kCapacity) {
+      send(batch);
+      batch.size = 0;
+    }
+  }
+  send(batch);
+}
+
+void CanServer::run(const std::atomic<bool>& stop) {
+  constexpr std::int64_t kStopCheckNs = 100'000'000;  // how soon `stop` is noticed
+  constexpr int kFramesPerWakeup = 64;                // bounds one wake-up's work
+  const std::int64_t period_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(options_.heartbeat_period).count();
+  std::int64_t next_heartbeat_ns = now_ns();
+  while (!stop.load(std::memory_order_relaxed)) {
+    std::int64_t now = now_ns();
+    if (period_ns > 0 && now >= next_heartbeat_ns) {
+      send_heartbeat();
+      next_heartbeat_ns = std::max(next_heartbeat_ns + period_ns, now);
+    }
+    can::FrameBatch expired;
+    handler_.on_time(now, expired);
+    send(expired);
+
+    std::int64_t wait_ns = kStopCheckNs;
+    if (period_ns > 0) wait_ns = std::min(wait_ns, next_heartbeat_ns - now);
+    if (handler_.assembling()) wait_ns = std::min(wait_ns, handler_.deadline_ns() - now);
+    wait_ns = std::max<std::int64_t>(wait_ns, 0);
+    const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000),
+                           static_cast<long>(wait_ns % 1'000'000'000)};
+    pollfd p{fd_, POLLIN, 0};
+    const int ready = ::ppoll(&p, 1, &timeout, nullptr);
+    if (ready < 0) {
+      if (errno == EINTR) continue;
+      throw Error(std::string("poll on the CAN socket failed: ") + std::strerror(errno));
+    }
+    if (ready == 0) continue;
+    if ((p.revents & (POLLERR | POLLHUP | POLLNVAL)) != 0 && (p.revents & POLLIN) == 0) {
+      throw Error("the CAN socket on " + options_.interface + " failed (interface gone?)");
+    }
+    for (int i = 0; i < kFramesPerWakeup; ++i) {
+      can_frame k{};
+      const ssize_t n = ::recv(fd_, &k, sizeof k, MSG_DONTWAIT);
+      if (n < 0) {
+        if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) break;
+        throw Error("reading from " + options_.interface + " failed: " + std::strerror(errno));
+      }
+      if (n != static_cast<ssize_t>(sizeof k)) continue;  // not a classic frame
+      can::Frame f;
+      f.id = (k.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) != 0
+                 ? ~std::uint32_t{0}  // never a request id: counted as ignored
+                 : (k.can_id & CAN_SFF_MASK);
+      f.dlc = std::min<std::uint8_t>(k.can_dlc, can::kFrameDlc);
+      std::memcpy(f.data.data(), k.data, f.dlc);
+      can::FrameBatch out;
+      handler_.on_frame(f, now_ns(), out);
+      send(out);
+    }
+  }
+}
+
+}  // namespace cmmcomp::plugins

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+// The per-frame path allocates nothing: RequestHandler::on_frame/on_time and the codec, for
+// answered requests, rejects and heartbeats (not built under sanitizers: see CMakeLists.txt).
+#include <gtest/gtest.h>
+
+#include <cmmcomp/plugins/can_request_handler.hpp>
+
+#include "can_test_frames.hpp"
+#include "support/allocation_counter.hpp"
+
+namespace {
+
+using namespace cmmcomp;
+using namespace cmmcomp::plugins::can;
+
+TEST(CanRequestHandlerRt, HandlingFramesDoesNotAllocate) {
+  compensation::MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), 1), Status::kOk);
+  RequestHandler handler(comp, 0x300, std::chrono::milliseconds(50));
+  std::array<RequestFrames, 64> requests;
+  for (std::uint32_t s = 0; s < 64; ++s) {
+    compensation::MoveRequest m = cmmcomp::test::example_move();
+    m.sequence = s;
+    m.pv_mm_s = 5.0 + s;
+    ASSERT_EQ(encode_request(m, 0x300, requests[s]), Status::kOk);
+  }
+  Frame bad = requests[0][1];
+  bad.dlc = 3;
+  std::size_t answered = 0;
+  std::size_t frames_out = 0;
+  cmmcomp::test::AllocationCounter allocations;
+  for (int n = 0; n < 10000; ++n) {
+    const RequestFrames& r = requests[static_cast<std::size_t>(n % 64)];
+    const std::int64_t t = n * 1'000'000LL;
+    FrameBatch out;
+    for (const Frame& f : r) handler.on_frame(f, t, out);
+    answered += out.size == kResponseParts ? 1 : 0;
+    out.size = 0;
+    handler.on_frame(r[0], t, out);
+    handler.on_frame(bad, t, out);          // reject path
+    handler.on_time(t + 100'000'000, out);  // timeout path
+    const HeartbeatInfo h = handler.next_heartbeat();
+    frames_out += out.size + encode_heartbeat(h, 1, 0x300).dlc;
+  }
+  EXPECT_EQ(allocations.count(), 0u);
+  EXPECT_EQ(answered, 10000u);
+  EXPECT_GT(frames_out, 0u);
+}
+
+}  // namespace

@@ -1,0 +1,273 @@
+// SPDX-License-Identifier: MIT
+// The reassembly state machine with fake frames in and frames out: every framing rule of
+// docs/protocol-can.md ("Reassembly") and the counters.
+#include <gtest/gtest.h>
+
+#include <cmmcomp/plugins/can_request_handler.hpp>
+#include <vector>
+
+#include "can_test_frames.hpp"
+
+namespace {
+
+using namespace cmmcomp;
+using namespace cmmcomp::plugins::can;
+using cmmcomp::plugins::CanCounters;
+
+constexpr std::uint32_t kBase = 0x300;
+constexpr std::int64_t kMs = 1'000'000;
+
+class RequestHandlerTest : public ::testing::Test {
+ protected:
+  RequestHandlerTest() {
+    EXPECT_EQ(comp_.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
+              Status::kOk);
+  }
+
+  RequestFrames request(std::uint32_t sequence) {
+    compensation::MoveRequest m = cmmcomp::test::example_move();
+    m.sequence = sequence;
+    RequestFrames f;
+    EXPECT_EQ(encode_request(m, kBase, f), Status::kOk);
+    return f;
+  }
+
+  /// Feeds `f` at time `t_ms`; returns what the handler sends.
+  std::vector<Frame> feed(const Frame& f, std::int64_t t_ms) {
+    FrameBatch out;
+    handler_.on_frame(f, t_ms * kMs, out);
+    return {out.frames.begin(), out.frames.begin() + static_cast<std::ptrdiff_t>(out.size)};
+  }
+
+  static RejectInfo reject_of(const std::vector<Frame>& out, std::size_t i = 0) {
+    RejectInfo r;
+    EXPECT_GT(out.size(), i);
+    if (out.size() > i) {
+      EXPECT_TRUE(decode_reject(out[i], kBase, r)) << cmmcomp::test::to_text(out[i]);
+    }
+    return r;
+  }
+
+  static bool is_response(const std::vector<Frame>& out, std::uint32_t sequence) {
+    DecodedResponse d;
+    return out.size() == 3 && decode_response({out[0], out[1], out[2]}, kBase, d) &&
+           d.correction.sequence == sequence;
+  }
+
+  compensation::MoveCompensator comp_;
+  RequestHandler handler_{comp_, kBase, std::chrono::milliseconds(50)};
+};
+
+TEST_F(RequestHandlerTest, ThreePartsInOrderGetTheResponse) {
+  const RequestFrames f = request(7);
+  EXPECT_TRUE(feed(f[0], 0).empty());
+  EXPECT_TRUE(handler_.assembling());
+  EXPECT_TRUE(feed(f[1], 10).empty());
+  const std::vector<Frame> out = feed(f[2], 20);
+  EXPECT_TRUE(is_response(out, 7));
+  EXPECT_FALSE(handler_.assembling());
+  const CanCounters c = handler_.counters();
+  EXPECT_EQ(c.frames_in, 3u);
+  EXPECT_EQ(c.requests, 1u);
+  EXPECT_EQ(c.answered, 1u);
+  EXPECT_EQ(c.rejected, 0u);
+}
+
+TEST_F(RequestHandlerTest, WrongDlcIsRejectedAndAbandonsItsRequest) {
+  const RequestFrames f = request(9);
+  feed(f[0], 0);
+  Frame shortened = f[1];
+  shortened.dlc = 7;
+  RejectInfo r = reject_of(feed(shortened, 1));
+  EXPECT_EQ(r.reason, RejectReason::kWrongDlc);
+  EXPECT_EQ(r.sequence, 9);
+  EXPECT_EQ(r.part, 1);
+  EXPECT_FALSE(handler_.assembling());
+  // The rest of that request cannot produce an answer: part 2 is now a missing-part reject.
+  r = reject_of(feed(f[2], 2));
+  EXPECT_EQ(r.reason, RejectReason::kMissingPart);
+  // An empty frame carries no sequence.
+  Frame empty;
+  empty.id = kBase;
+  r = reject_of(feed(empty, 3));
+  EXPECT_EQ(r.reason, RejectReason::kWrongDlc);
+  EXPECT_EQ(r.sequence, kUnknown);
+  EXPECT_EQ(r.part, kUnknown);
+  EXPECT_EQ(handler_.counters().malformed, 3u);
+  EXPECT_EQ(handler_.counters().answered, 0u);
+}
+
+TEST_F(RequestHandlerTest, UnknownMultiplexerValueIsRejected) {
+  Frame f = request(3)[0];
+  f.data[0] = static_cast<std::uint8_t>(f.data[0] | 0x3);  // part 3
+  const RejectInfo r = reject_of(feed(f, 0));
+  EXPECT_EQ(r.reason, RejectReason::kUnknownPart);
+  EXPECT_EQ(r.sequence, 3);
+  EXPECT_EQ(r.part, 3);
+  EXPECT_EQ(r.rejected, 1);
+}
+
+TEST_F(RequestHandlerTest, StaleSequenceIsRejectedAndTheCurrentRequestGoesOn) {
+  const RequestFrames now = request(12);
+  const RequestFrames old = request(11);
+  feed(now[0], 0);
+  const RejectInfo r = reject_of(feed(old[1], 1));  // a part of the previous request
+  EXPECT_EQ(r.reason, RejectReason::kSequenceMismatch);
+  EXPECT_EQ(r.sequence, 11);
+  EXPECT_TRUE(handler_.assembling());
+  feed(now[1], 2);
+  EXPECT_TRUE(is_response(feed(now[2], 3), 12));
+}
+
+TEST_F(RequestHandlerTest, PartWithoutItsPredecessorIsRejected) {
+  const RequestFrames f = request(20);
+  RejectInfo r = reject_of(feed(f[2], 0));  // nothing being assembled
+  EXPECT_EQ(r.reason, RejectReason::kMissingPart);
+  EXPECT_EQ(r.part, 2);
+  feed(f[0], 1);
+  r = reject_of(feed(f[2], 2));  // part 1 skipped
+  EXPECT_EQ(r.reason, RejectReason::kMissingPart);
+  EXPECT_FALSE(handler_.assembling());
+  feed(f[0], 3);
+  feed(f[1], 4);
+  r = reject_of(feed(f[1], 5));  // duplicate
+  EXPECT_EQ(r.reason, RejectReason::kMissingPart);
+  EXPECT_EQ(handler_.counters().answered, 0u);
+}
+
+TEST_F(RequestHandlerTest, TimeoutBetweenPartsIsRejectedOnceAndNeverAnswered) {
+  const RequestFrames f = request(30);
+  feed(f[0], 0);
+  FrameBatch out;
+  handler_.on_time(49 * kMs, out);
+  EXPECT_EQ(out.size, 0u);
+  handler_.on_time(50 * kMs, out);
+  ASSERT_EQ(out.size, 1u);
+  RejectInfo r;
+  ASSERT_TRUE(decode_reject(out.frames[0], kBase, r));
+  EXPECT_EQ(r.reason, RejectReason::kTimeout);
+  EXPECT_EQ(r.sequence, 30);
+  EXPECT_EQ(r.part, 1);  // the part that did not come
+  out.size = 0;
+  handler_.on_time(60 * kMs, out);
+  EXPECT_EQ(out.size, 0u);  // once
+  // The late parts find no request: rejects, never an answer with the old part 0.
+  EXPECT_EQ(reject_of(feed(f[1], 61)).reason, RejectReason::kMissingPart);
+  EXPECT_EQ(reject_of(feed(f[2], 62)).reason, RejectReason::kMissingPart);
+  EXPECT_EQ(handler_.counters().timeouts, 1u);
+  EXPECT_EQ(handler_.counters().answered, 0u);
+}
+
+TEST_F(RequestHandlerTest, LatePartExpiresTheRequestEvenWithoutATick) {
+  const RequestFrames f = request(31);
+  feed(f[0], 0);
+  feed(f[1], 40);  // in time: the deadline moves to 90 ms
+  const std::vector<Frame> out = feed(f[2], 95);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(reject_of(out, 0).reason, RejectReason::kTimeout);
+  EXPECT_EQ(reject_of(out, 0).part, 2);
+  EXPECT_EQ(reject_of(out, 1).reason, RejectReason::kMissingPart);
+}
+
+TEST_F(RequestHandlerTest, NewRequestSupersedesAnIncompleteOne) {
+  const RequestFrames a = request(40);
+  const RequestFrames b = request(41);
+  feed(a[0], 0);
+  feed(a[1], 1);
+  const RejectInfo r = reject_of(feed(b[0], 2));
+  EXPECT_EQ(r.reason, RejectReason::kIncomplete);
+  EXPECT_EQ(r.sequence, 40);
+  EXPECT_EQ(r.part, 2);
+  feed(b[1], 3);
+  EXPECT_TRUE(is_response(feed(b[2], 4), 41));
+  EXPECT_EQ(handler_.counters().incomplete, 1u);
+}
+
+TEST_F(RequestHandlerTest, FieldOutOfRangeNamesTheField) {
+  RequestFrames f = request(50);
+  std::uint64_t w = load_word(f[1]);
+  put_raw(w, request::kAa, 4001);  // above 4000 mm/s²
+  store_word(w, f[1]);
+  feed(f[0], 0);
+  feed(f[1], 1);
+  const RejectInfo r = reject_of(feed(f[2], 2));
+  EXPECT_EQ(r.reason, RejectReason::kFieldOutOfRange);
+  EXPECT_EQ(r.detail, static_cast<std::uint8_t>(RequestField::kAa));
+  EXPECT_EQ(r.part, 1);
+  EXPECT_EQ(handler_.counters().out_of_range, 1u);
+}
+
+TEST_F(RequestHandlerTest, CompensatorRefusalsAreRejectsWithTheStatus) {
+  compensation::MoveRequest m = cmmcomp::test::example_move();
+  m.axis = 2;  // no model there
+  RequestFrames f;
+  ASSERT_EQ(encode_request(m, kBase, f), Status::kOk);
+  feed(f[0], 0);
+  feed(f[1], 1);
+  const RejectInfo r = reject_of(feed(f[2], 2));
+  EXPECT_EQ(r.reason, RejectReason::kNoModel);
+  EXPECT_EQ(r.status, static_cast<std::int16_t>(Status::kNoModel));
+  EXPECT_EQ(handler_.counters().refused, 1u);
+}
+
+TEST_F(RequestHandlerTest, ResultThatDoesNotFitIsRejectedNotWrapped) {
+  ASSERT_EQ(comp_.publish(1, cmmcomp::test::linear_model({400.0, 0, 0, 0}, {0, 0, 0, 0}), 9),
+            Status::kOk);
+  compensation::MoveRequest m = cmmcomp::test::example_move();
+  m.axis = 1;
+  RequestFrames f;
+  ASSERT_EQ(encode_request(m, kBase, f), Status::kOk);
+  feed(f[0], 0);
+  feed(f[1], 1);
+  const RejectInfo r = reject_of(feed(f[2], 2));
+  EXPECT_EQ(r.reason, RejectReason::kResultOutOfRange);
+  EXPECT_EQ(r.detail, static_cast<std::uint8_t>(ResponseField::kMpe));
+}
+
+TEST_F(RequestHandlerTest, OtherIdentifiersAreIgnored) {
+  Frame other = request(1)[0];
+  other.id = kBase + kResponseOffset;
+  EXPECT_TRUE(feed(other, 0).empty());
+  other.id = 0x123;
+  EXPECT_TRUE(feed(other, 0).empty());
+  EXPECT_EQ(handler_.counters().ignored, 2u);
+  EXPECT_EQ(handler_.counters().frames_in, 0u);
+}
+
+TEST_F(RequestHandlerTest, HeartbeatCarriesCountersAndModelIds) {
+  const RequestFrames f = request(2);
+  for (const Frame& x : f) feed(x, 0);
+  const HeartbeatInfo h = handler_.next_heartbeat();
+  EXPECT_EQ(h.tick, 0);
+  EXPECT_EQ(h.requests, 1);
+  EXPECT_EQ(h.answered, 1);
+  EXPECT_EQ(h.model_mask, 0b0001);
+  EXPECT_EQ(h.model_ids[0], cmmcomp::test::kExampleModelId);
+  EXPECT_EQ(handler_.next_heartbeat().tick, 1);
+}
+
+// Every byte pattern on the request identifier, any DLC: never a crash, never more frames out
+// than the batch holds, and a response only for a complete request.
+TEST_F(RequestHandlerTest, RandomFramesNeverCrashOrOverflow) {
+  std::uint64_t x = 0x9E3779B97F4A7C15u;
+  const auto next = [&x] {
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    return x;
+  };
+  for (int n = 0; n < 100000; ++n) {
+    Frame f;
+    f.id = kBase;
+    f.dlc = static_cast<std::uint8_t>(next() % 9);
+    const std::uint64_t w = next();
+    for (std::size_t i = 0; i < f.dlc; ++i) f.data[i] = static_cast<std::uint8_t>(w >> (8 * i));
+    FrameBatch out;
+    handler_.on_frame(f, n * kMs / 10, out);
+    ASSERT_LE(out.size, FrameBatch::kCapacity);
+  }
+  const CanCounters c = handler_.counters();
+  EXPECT_EQ(c.frames_in, 100000u);
+}
+
+}  // namespace
