@@ -4,8 +4,8 @@
 #  - reduction >= the paper's Table 5 for every parameter;
 #  - mean |residual| <= 1.5 x the noise floor (0.8 sigma of Table 1) for MPE, RPE and MAE;
 #  - RAE's twin response oscillates between the L18 levels, and its 1.5 x floor target (0.36 um)
-#    is NOT met (docs/training.md): checked here is what the docs claim instead, that training on
-#    a 270-move Latin hypercube (seed 3) brings its residual down by at least a third.
+#    is NOT met by L18 training (docs/training.md). Trained on L18 x 3 plus a 270-move Latin
+#    hypercube (seed 3; the shipped default model's recipe), every target is met: checked too.
 # Usage: cmake -DSIM=... -DTRAIN=... -DWORK=... -P fnn_accuracy.cmake
 cmake_minimum_required(VERSION 3.25)
 file(MAKE_DIRECTORY "${WORK}")
@@ -18,22 +18,16 @@ function(run)
   set(run_out "${out}" PARENT_SCOPE)
 endfunction()
 
-# A non-negative decimal in um -> integer nm (CMake's math is integer-only).
-function(to_nm value out)
-  if(NOT value MATCHES "^([0-9]+)(\\.([0-9]*))?$")
-    message(FATAL_ERROR "not a non-negative decimal: '${value}'")
-  endif()
-  set(int "${CMAKE_MATCH_1}")
-  string(SUBSTRING "${CMAKE_MATCH_3}000" 0 3 frac)
-  math(EXPR nm "${int} * 1000 + 1${frac} - 1000")
-  set(${out} ${nm} PARENT_SCOPE)
-endfunction()
-
 run(${SIM} dataset --design l18 --repeats 3 --noise --seed 1 -o ${WORK}/l18x3.csv)
 run(${SIM} dataset --design lhs --samples 270 --noise --seed 2 -o ${WORK}/lhs270.csv)
 run(${SIM} dataset --design lhs --samples 270 --noise --seed 3 -o ${WORK}/lhs270-train.csv)
 run(${TRAIN} fit ${WORK}/l18x3.csv -o ${WORK}/l18.json)
-run(${TRAIN} fit ${WORK}/lhs270-train.csv -o ${WORK}/lhs.json)
+file(READ ${WORK}/l18x3.csv l18_text)
+file(STRINGS ${WORK}/lhs270-train.csv lhs_lines)
+list(REMOVE_AT lhs_lines 0)
+list(JOIN lhs_lines "\n" lhs_text)
+file(WRITE ${WORK}/l18x3-lhs270.csv "${l18_text}${lhs_text}\n")
+run(${TRAIN} fit ${WORK}/l18x3-lhs270.csv -o ${WORK}/lhs.json)
 run(${TRAIN} eval ${WORK}/l18.json ${WORK}/lhs270.csv --json)
 set(l18 "${run_out}")
 run(${TRAIN} eval ${WORK}/lhs.json ${WORK}/lhs270.csv --json)
@@ -55,21 +49,15 @@ foreach(p mpe rpe mae rae)
   string(JSON after GET "${l18}" ${p} mean_after_um)
   string(JSON after_lhs GET "${lhs}" ${p} mean_after_um)
   message(STATUS "${p}: L18-trained reduction ${reduction} % (paper ${paper_reduction_${p}}), "
-                 "mean residual ${after} um; LHS-trained ${after_lhs} um; limit ${limit_${p}} um")
+                 "mean residual ${after} um; L18+LHS-trained ${after_lhs} um; limit ${limit_${p}} um")
   if(reduction LESS paper_reduction_${p})
     string(APPEND failures "${p}: reduction ${reduction} % < paper ${paper_reduction_${p}} %\n")
   endif()
-  if(p STREQUAL "rae")
-    to_nm("${after}" after_nm)
-    to_nm("${after_lhs}" after_lhs_nm)
-    math(EXPR scaled "3 * ${after_lhs_nm}")
-    math(EXPR bound "2 * ${after_nm}")
-    if(scaled GREATER bound)
-      string(APPEND failures
-             "rae: LHS-trained residual ${after_lhs} um is not <= 2/3 of L18's ${after} um\n")
-    endif()
-  elseif(after GREATER limit_${p})
-    string(APPEND failures "${p}: mean residual ${after} um > ${limit_${p}} um\n")
+  if(NOT p STREQUAL "rae" AND after GREATER limit_${p})
+    string(APPEND failures "${p}: L18-trained mean residual ${after} um > ${limit_${p}} um\n")
+  endif()
+  if(after_lhs GREATER limit_${p})
+    string(APPEND failures "${p}: L18+LHS-trained mean residual ${after_lhs} um > ${limit_${p}} um\n")
   endif()
 endforeach()
 if(failures)
