@@ -1,1 +1,105 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# HIL check with can-utils as the outside peer; runs inside scripts/uml-run.sh (real vcan0).
+#   hil_cansend_candump.sh CAN_TEST_SERVER docs/protocol-can.md
+# Starts the test server (closed-form example model) on vcan0, sends the document's worked
+# example and its reject examples with `cansend`, captures the bus with `candump -L`, and
+# checks that the server's frames are exactly the document's, that the heartbeat carries the
+# model id, and that the server's counters agree.
+set -euo pipefail
+server="$1"
+doc="$2"
+work="$(mktemp -d)"
+server_pid=""
+dump_pid=""
+cleanup() {
+  [ -n "$dump_pid" ] && kill "$dump_pid" 2>/dev/null || true
+  [ -n "$server_pid" ] && kill "$server_pid" 2>/dev/null || true
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() {
+  echo "FAIL: $*" >&2
+  echo "--- candump -L vcan0:" >&2
+  cat "$work/dump" >&2 || true
+  echo "--- server:" >&2
+  cat "$work/server.out" "$work/server.err" >&2 || true
+  exit 1
+}
+
+# The fenced block after <!-- MARKER --> in the document.
+block() {
+  awk -v m="<!-- $1 -->" '$0 == m { f = 1; next }
+    f && /^```/ { if (b) exit; b = 1; next }
+    f && b { print }' "$doc"
+}
+
+block example:request | awk '{ print $3 }' >"$work/request"
+block example:response | awk '{ print $3 }' >"$work/expected"
+[ "$(wc -l <"$work/request")" -eq 3 ] || fail "no 3-frame example request in $doc"
+[ "$(wc -l <"$work/expected")" -eq 3 ] || fail "no 3-frame example response in $doc"
+
+"$server" --interface vcan0 --heartbeat-ms 200 --part-timeout-ms 50 --max-seconds 60 \
+  >"$work/server.out" 2>"$work/server.err" &
+server_pid=$!
+for _ in $(seq 100); do
+  grep -q '^ready: SocketCAN vcan0, base id 0x300$' "$work/server.out" && break
+  kill -0 "$server_pid" 2>/dev/null || fail "server did not start"
+  sleep 0.05
+done
+grep -q '^ready:' "$work/server.out" || fail "server not ready after 5 s"
+
+candump -L vcan0 >"$work/dump" &
+dump_pid=$!
+sleep 0.3
+
+# 1. The worked example: request in, response out.
+while read -r frame; do cansend vcan0 "$frame"; done <"$work/request"
+sleep 0.1
+
+# 2. The document's reject table, in its order: | `sent` ... | `answer` | why |
+first_part="$(head -n 1 "$work/request")"
+grep -E '^\| (`300#|part 0 alone)' "$doc" >"$work/rejects" || fail "no reject examples in $doc"
+while IFS='|' read -r _ sent answer _; do
+  answer="$(echo "$answer" | tr -d '` ')"
+  echo "$answer" >>"$work/expected"
+  case "$sent" in
+    *'part 0 alone'*)
+      cansend vcan0 "$first_part"
+      sleep 0.3 ;;  # > part timeout: the server must reject on its own
+    *)
+      cansend vcan0 "$(echo "$sent" | sed -E 's/^[^`]*`([^`]*)`.*$/\1/')"
+      sleep 0.1 ;;
+  esac
+done <"$work/rejects"
+sleep 0.3  # at least one more heartbeat period
+
+kill -INT "$dump_pid"
+wait "$dump_pid" 2>/dev/null || true
+dump_pid=""
+kill -TERM "$server_pid"
+wait "$server_pid" || fail "server exited with status $?"
+server_pid=""
+
+# candump -L: "(seconds.micro) vcan0 ID#DATA"; the server's answers are ids 0x301 and 0x302.
+awk '$2 == "vcan0" && ($3 ~ /^301#/ || $3 ~ /^302#/) { print $3 }' "$work/dump" >"$work/actual"
+if ! diff -u "$work/expected" "$work/actual" >"$work/diff"; then
+  cat "$work/diff" >&2
+  fail "server frames differ from the document (expected vs candump)"
+fi
+echo "ok: $(wc -l <"$work/actual") frames as documented (example response and rejects)"
+
+# Heartbeat page 1 (low 3 bits of byte 0 = 001): model id of axis 0 = 0xC0FFEE01.
+grep -Eq ' vcan0 303#[0-9A-F][19]0001EEFFC00000$' "$work/dump" ||
+  fail "no heartbeat page 1 with model id 0xC0FFEE01"
+# Page 0 after the requests: requests 1, answered 1, model mask 1 (rejected = 4 → 0400).
+grep -Eq ' vcan0 303#[0-9A-F][08]01000100040001$' "$work/dump" ||
+  fail "no heartbeat page 0 with requests 1, answered 1, rejected 4, model mask 1"
+echo "ok: heartbeat with model id and counters"
+
+counters="$(grep '^counters:' "$work/server.out")" || fail "no counters from the server"
+for c in frames_in=7 requests=1 answered=1 rejected=4 malformed=3 timeouts=1 ignored=0 \
+         send_errors=0; do
+  case " $counters " in *" $c "*) ;; *) fail "server counters: want $c in '$counters'" ;; esac
+done
+echo "ok: $counters"

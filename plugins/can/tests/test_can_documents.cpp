@@ -276,4 +276,43 @@ TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
   EXPECT_EQ(d.correction.sequence, 5u);
 }
 
+// The document's reject examples (| sent | answer | why |), in order, through one handler.
+TEST(CanProtocolDoc, RejectExamplesAreWhatTheServerAnswers) {
+  compensation::MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
+            Status::kOk);
+  RequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  RequestFrames example;
+  ASSERT_EQ(encode_request(cmmcomp::test::example_move(), kDefaultBaseId, example), Status::kOk);
+  const auto between_ticks = [](const std::string& s) {
+    const std::size_t a = s.find('`');
+    const std::size_t b = s.find('`', a + 1);
+    return a == std::string::npos || b == std::string::npos ? std::string()
+                                                            : s.substr(a + 1, b - a - 1);
+  };
+  std::int64_t t = 0;
+  int rows = 0;
+  for (const std::string& line : read_lines(CMMCOMP_CAN_DOC)) {
+    if (line.rfind("| `300#", 0) != 0 && line.rfind("| part 0 alone", 0) != 0) continue;
+    const std::vector<std::string> c = cells(line);
+    ASSERT_EQ(c.size(), 3u) << line;
+    SCOPED_TRACE(line);
+    ++rows;
+    FrameBatch out;
+    t += 1'000'000'000;  // rows are independent: far apart in time
+    if (c[0].rfind("part 0 alone", 0) == 0) {
+      handler.on_frame(example[0], t, out);
+      ASSERT_EQ(out.size, 0u);
+      handler.on_time(t + 50'000'000, out);  // the part timeout has passed
+    } else {
+      Frame sent;
+      ASSERT_TRUE(cmmcomp::test::from_text(between_ticks(c[0]), sent));
+      handler.on_frame(sent, t, out);
+    }
+    ASSERT_EQ(out.size, 1u);
+    EXPECT_EQ(cmmcomp::test::to_text(out.frames[0]), between_ticks(c[1]));
+  }
+  EXPECT_EQ(rows, 4);
+}
+
 }  // namespace
