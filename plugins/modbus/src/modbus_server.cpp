@@ -50,7 +50,7 @@ std::string errno_text(int err) { return modbus_strerror(err); }
 
 }  // namespace
 
-// ---- endpoint ----------------------------------------------------------------------------------
+// ---- endpoint
 
 ModbusEndpoint ModbusEndpoint::parse(const std::string& text) {
   ModbusEndpoint e;
@@ -133,7 +133,7 @@ bool ModbusServerOptions::is_valid(std::string* why) const {
   return true;
 }
 
-// ---- server ------------------------------------------------------------------------------------
+// ---- server
 
 struct ModbusServer::Impl {
   Impl(const compensation::MoveCompensator& compensator,

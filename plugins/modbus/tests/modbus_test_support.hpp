@@ -21,7 +21,7 @@
 
 namespace cmmcomp::test {
 
-// ---- worked example (docs/protocol-modbus.md, "Worked example") ---------------------------------
+// ---- worked example (docs/protocol-modbus.md, "Worked example")
 
 /// Model id the example publishes on axis 0.
 inline constexpr std::uint64_t kExampleModelId = 0x0123456789ABCDEFull;
@@ -70,7 +70,6 @@ inline std::vector<std::uint8_t> hex(const std::string& text) {
 }
 
 // ---- a server on loopback
-// -------------------------------------------------------------------------
 
 /// A port for this process's attempt `attempt`: spread by pid so that parallel test processes
 /// rarely meet, and retried on failure (libmodbus cannot bind port 0).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cmmcomp/plugins/modbus_register_map.hpp>
 #include <cmmcomp/plugins/modbus_request_handler.hpp>
+#include <cmmcomp/plugins/modbus_server.hpp>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -149,7 +150,7 @@ TEST(ModbusRegisterMap, FieldsTileTheMapWithoutGaps) {
   EXPECT_EQ(next, map::kInputCount);
 }
 
-// ---- the worked example of docs/protocol-modbus.md ----------------------------------------------
+// ---- the worked example of docs/protocol-modbus.md
 
 TEST(ModbusWorkedExample, RequestAndResponseBytes) {
   compensation::MoveCompensator comp;
@@ -193,8 +194,73 @@ TEST(ModbusWorkedExample, RequestAndResponseBytes) {
   EXPECT_EQ(r.model_id, test::kExampleModelId);
 }
 
+// ---- endpoints and options
+
+TEST(ModbusEndpoint, ParsesTcp) {
+  const ModbusEndpoint e = ModbusEndpoint::parse("tcp:127.0.0.1:1502");
+  EXPECT_EQ(e.kind, ModbusEndpoint::Kind::kTcp);
+  EXPECT_EQ(e.host, "127.0.0.1");
+  EXPECT_EQ(e.port, 1502);
+  EXPECT_EQ(e.to_string(), "tcp:127.0.0.1:1502");
+  const ModbusEndpoint v6 = ModbusEndpoint::parse("tcp:[::1]:502");
+  EXPECT_EQ(v6.host, "::1");
+  EXPECT_EQ(v6.to_string(), "tcp:[::1]:502");
+}
+
+TEST(ModbusEndpoint, ParsesRtu) {
+  const ModbusEndpoint e = ModbusEndpoint::parse("rtu:/dev/ttyUSB0:115200,8N1");
+  EXPECT_EQ(e.kind, ModbusEndpoint::Kind::kRtu);
+  EXPECT_EQ(e.device, "/dev/ttyUSB0");
+  EXPECT_EQ(e.baud, 115200);
+  EXPECT_EQ(e.data_bits, 8);
+  EXPECT_EQ(e.parity, 'N');
+  EXPECT_EQ(e.stop_bits, 1);
+  EXPECT_EQ(ModbusEndpoint::parse(e.to_string()).to_string(), e.to_string());
+  const ModbusEndpoint d = ModbusEndpoint::parse("rtu:/dev/ttyS1:9600");
+  EXPECT_EQ(d.parity, 'E');  // the Modbus default framing 8E1
+  EXPECT_EQ(ModbusEndpoint::parse("rtu:/dev/ttyS1:9600,7o2").parity, 'O');
+}
+
+/// The ConfigError message for `text` (empty when it parses).
+std::string parse_error(const std::string& text) {
+  try {
+    ModbusEndpoint::parse(text);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+TEST(ModbusEndpoint, ErrorsNameWhatIsWrong) {
+  EXPECT_NE(parse_error("udp:1.2.3.4:5").find("unknown transport"), std::string::npos);
+  EXPECT_NE(parse_error("tcp:localhost").find("no port"), std::string::npos);
+  EXPECT_NE(parse_error("tcp::1502").find("host is empty"), std::string::npos);
+  EXPECT_NE(parse_error("tcp:localhost:99999").find("port must be 1..65535, not 99999"),
+            std::string::npos);
+  EXPECT_NE(parse_error("tcp:localhost:http").find("port 'http' is not a number"),
+            std::string::npos);
+  EXPECT_NE(parse_error("tcp:[::1:502").find("[ADDRESS]:PORT"), std::string::npos);
+  EXPECT_NE(parse_error("rtu:/dev/ttyS0").find("no baud rate"), std::string::npos);
+  EXPECT_NE(parse_error("rtu::9600").find("device is empty"), std::string::npos);
+  EXPECT_NE(parse_error("rtu:/dev/ttyS0:fast").find("baud rate 'fast'"), std::string::npos);
+  EXPECT_NE(parse_error("rtu:/dev/ttyS0:9600,8X1").find("parity 'X'"), std::string::npos);
+  EXPECT_NE(parse_error("rtu:/dev/ttyS0:9600,9N1").find("framing '9N1'"), std::string::npos);
+  EXPECT_NE(parse_error("tcp:localhost:0").find("'tcp:localhost:0'"), std::string::npos);
+}
+
+TEST(ModbusServerOptions, Validation) {
+  std::string why;
+  EXPECT_TRUE(ModbusServerOptions{}.is_valid(&why));
+  ModbusServerOptions o;
+  o.unit_id = 248;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_EQ(why, "unit_id must be 1..247");
+  o = {};
+  o.max_tcp_clients = 0;
+  EXPECT_FALSE(o.is_valid(&why));
+}
+
 // ---- the document
-// ---------------------------------------------------------------------------------
 
 std::string read_doc() {
   std::ifstream in(CMMCOMP_MODBUS_DOC);

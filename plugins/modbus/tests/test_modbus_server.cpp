@@ -307,7 +307,7 @@ TEST_F(ModbusServerTest, StopIsNoticedQuickly) {
   EXPECT_LT(ms, 200);  // poll interval 50 ms; slack for a loaded 2-core machine
 }
 
-// ---- RTU over a pseudo-terminal pair ------------------------------------------------------------
+// ---- RTU over a pseudo-terminal pair
 
 /// `socat -d -d pty,raw,echo=0 pty,raw,echo=0`, started by this test and killed by it.
 class PtyPair {

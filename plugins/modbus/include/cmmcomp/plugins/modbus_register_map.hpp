@@ -25,7 +25,7 @@ namespace cmmcomp::plugins::modbus_map {
 /// client can observe.
 inline constexpr std::uint16_t kProtocolVersion = 1;
 
-// ---- holding registers (FC03 read, FC06/FC16/FC23 write): the request --------------------------
+// ---- holding registers (FC03 read, FC06/FC16/FC23 write): the request
 inline constexpr std::uint16_t kAxis = 0;           ///< u16, 0 .. kMaxAxes−1
 inline constexpr std::uint16_t kReserved = 1;       ///< u16, must be 0
 inline constexpr std::uint16_t kDirectionX = 2;     ///< f32, unit vector component
@@ -45,7 +45,7 @@ inline constexpr std::uint16_t kRequestCount = 25;  ///< writable holding regist
 /// one FC23 transaction can write a request and read its result.
 inline constexpr std::uint16_t kResultCopy = 25;
 
-// ---- input registers (FC04 read): result and status ---------------------------------------------
+// ---- input registers (FC04 read): result and status
 inline constexpr std::uint16_t kProtocolVersionReg = 0;  ///< u16, kProtocolVersion
 inline constexpr std::uint16_t kResultSequence = 1;      ///< u16, echo of the request's sequence
 inline constexpr std::uint16_t kResultStatus = 2;        ///< i16, cmmcomp::Status value
@@ -152,7 +152,7 @@ inline constexpr std::array<Field, 24> kInputFields{{
     {"model_id_axis3", kModelIdAxis0 + 12, FieldType::kU64},
 }};
 
-// ---- word codecs (most significant word first) -------------------------------------------------
+// ---- word codecs (most significant word first)
 
 /// Writes `v` into regs[0..1], high word first. RT-safe.
 inline void put_u32(std::uint16_t* regs, std::uint32_t v) noexcept {
@@ -196,7 +196,6 @@ inline float get_f32(const std::uint16_t* regs) noexcept {
 }
 
 // ---- the request
-// ---------------------------------------------------------------------------------
 
 /// Writes `m` into the holding-register image (direction and values rounded to binary32; the
 /// sequence keeps its low 16 bits). RT-safe.
@@ -264,7 +263,6 @@ inline void encode_request(const compensation::MoveRequest& m, HoldingRegisters&
 }
 
 // ---- the result
-// ------------------------------------------------------------------------------------
 
 /// A result as a client reads it from the input registers (floats widened to double).
 struct Result {
