@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+/// @file Runs cmmcomp-agent as a child process for tests: its combined stdout/stderr is
+/// collected, signals can be sent, and the exit status is waited for with a time limit.
+#pragma once
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace cmmcomp::test {
+
+class AgentProcess {
+ public:
+  /// Starts `program` with `args`. Check running() / output() afterwards.
+  AgentProcess(const std::string& program, const std::vector<std::string>& args) {
+    int fds[2];
+    if (pipe(fds) != 0) return;
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(fds[1], STDOUT_FILENO);
+      dup2(fds[1], STDERR_FILENO);
+      close(fds[0]);
+      close(fds[1]);
+      std::vector<char*> argv;
+      argv.push_back(const_cast<char*>(program.c_str()));
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(program.c_str(), argv.data());
+      _exit(127);
+    }
+    close(fds[1]);
+    fd_ = fds[0];
+    fcntl(fd_, F_SETFL, fcntl(fd_, F_GETFL) | O_NONBLOCK);
+  }
+  ~AgentProcess() {
+    if (pid_ > 0 && !exited_) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    if (fd_ >= 0) close(fd_);
+  }
+  AgentProcess(const AgentProcess&) = delete;
+  AgentProcess& operator=(const AgentProcess&) = delete;
+
+  /// Everything the agent printed so far.
+  const std::string& output() {
+    drain(0);
+    return output_;
+  }
+
+  /// Waits until the output contains `text` or the process ends or `timeout` passes.
+  bool wait_for_output(const std::string& text, std::chrono::milliseconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (output_.find(text) == std::string::npos) {
+      if (std::chrono::steady_clock::now() > end) return false;
+      if (!drain(50) && has_exited()) return output_.find(text) != std::string::npos;
+    }
+    return true;
+  }
+
+  void signal(int sig) const { kill(pid_, sig); }
+
+  /// Exit status after waiting at most `timeout`; -1 if still running, 128+N if killed by N.
+  int wait_exit(std::chrono::milliseconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (!has_exited()) {
+      if (std::chrono::steady_clock::now() > end) return -1;
+      drain(20);
+    }
+    drain(0);
+    return status_;
+  }
+
+ private:
+  bool has_exited() {
+    if (exited_) return true;
+    int st = 0;
+    if (waitpid(pid_, &st, WNOHANG) == pid_) {
+      exited_ = true;
+      status_ = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    }
+    return exited_;
+  }
+  /// Reads what is available (waiting up to `ms`); true if anything was read.
+  bool drain(int ms) {
+    if (fd_ < 0) return false;
+    pollfd p{fd_, POLLIN, 0};
+    if (poll(&p, 1, ms) <= 0) return false;
+    char buf[4096];
+    bool any = false;
+    for (;;) {
+      const ssize_t n = read(fd_, buf, sizeof buf);
+      if (n <= 0) break;
+      output_.append(buf, static_cast<std::size_t>(n));
+      any = true;
+    }
+    return any;
+  }
+
+  pid_t pid_ = -1;
+  int fd_ = -1;
+  bool exited_ = false;
+  int status_ = -1;
+  std::string output_;
+};
+
+}  // namespace cmmcomp::test

@@ -1,0 +1,295 @@
+// SPDX-License-Identifier: MIT
+/// @file cmmcomp-agent: serves the per-move compensator to a CMM controller over SocketCAN
+/// (docs/protocol-can.md) and/or Modbus TCP/RTU (docs/protocol-modbus.md).
+///
+/// Threads: one per bus, each running its server's loop; the main thread only waits for
+/// signals (blocked everywhere, taken with sigtimedwait, so no handler runs in a server
+/// thread). SIGHUP reloads every model file: a file that fails keeps the old model serving
+/// (the compensator's publish is a wait-free hot swap for the serving threads). SIGTERM and
+/// SIGINT stop the servers and exit 0 after logging their counters.
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/plugins/can_server.hpp>
+#include <cmmcomp/plugins/modbus_server.hpp>
+#include <cmmcomp/version.hpp>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <exception>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "model_slots.hpp"
+
+namespace {
+
+using cmmcomp::agent::ModelSlot;
+using cmmcomp::agent::SlotOutcome;
+
+struct Options {
+  std::vector<std::string> models;
+  std::string can_interface;
+  std::string can_base_id = "0x300";
+  int can_heartbeat_ms = 1000;
+  int can_part_timeout_ms = 50;
+  std::string modbus;
+  int modbus_unit = 1;
+  std::string outside_domain = "clamp";
+  std::string log_level = "info";
+};
+
+/// Logs what a load or reload did; returns true when every slot was loaded.
+bool report(const std::vector<SlotOutcome>& outcomes, bool reload) {
+  bool all = true;
+  for (const SlotOutcome& o : outcomes) {
+    if (o.loaded) {
+      spdlog::info("axis {}: {} model {} from {}",
+                   o.axis,
+                   reload ? "reloaded" : "serving",
+                   o.model_id,
+                   o.source);
+    } else {
+      all = false;
+      if (o.model_id.empty()) {
+        spdlog::error(
+            "axis {}: cannot load {}: {}; the axis has no model", o.axis, o.source, o.error);
+      } else {
+        spdlog::error("axis {}: cannot load {}: {}; model {} keeps serving",
+                      o.axis,
+                      o.source,
+                      o.error,
+                      o.model_id);
+      }
+    }
+  }
+  return all;
+}
+
+/// A server loop on its own thread; an exception ends it and asks the agent to stop.
+class ServerThread {
+ public:
+  template <typename Server>
+  ServerThread(std::unique_ptr<Server> server, std::atomic<bool>& stop, std::atomic<bool>& failed)
+      : name_(server->where()) {
+    thread_ = std::thread([s = std::move(server), &stop, &failed, name = name_] {
+      try {
+        s->run(stop);
+      } catch (const std::exception& e) {
+        spdlog::critical("{}: {}", name, e.what());
+        failed = true;
+      }
+      log_counters(*s);
+    });
+  }
+  ~ServerThread() {
+    if (thread_.joinable()) thread_.join();
+  }
+  ServerThread(const ServerThread&) = delete;
+  ServerThread& operator=(const ServerThread&) = delete;
+
+ private:
+  static void log_counters(const cmmcomp::plugins::CanServer& s) {
+    const auto c = s.counters();
+    spdlog::info(
+        "{}: {} requests, {} answered, {} rejected ({} malformed, {} timeouts, {} out of range, "
+        "{} refused), {} heartbeats",
+        s.where(),
+        c.requests,
+        c.answered,
+        c.rejected,
+        c.malformed,
+        c.timeouts,
+        c.out_of_range,
+        c.refused,
+        c.heartbeats);
+  }
+  static void log_counters(const cmmcomp::plugins::ModbusServer& s) {
+    const auto c = s.counters();
+    spdlog::info(
+        "{}: {} requests, {} answered, {} computations, {} exceptions ({} bad values), "
+        "{} clients, {} receive errors",
+        s.where(),
+        c.requests,
+        c.answered,
+        c.computations,
+        c.exceptions,
+        c.rejected,
+        c.clients_connected,
+        c.receive_errors);
+  }
+
+  std::string name_;
+  std::thread thread_;
+};
+
+cmmcomp::fuzzy::DomainPolicy parse_policy(const std::string& s) {
+  if (s == "clamp") return cmmcomp::fuzzy::DomainPolicy::kClamp;
+  if (s == "extrapolate") return cmmcomp::fuzzy::DomainPolicy::kExtrapolate;
+  return cmmcomp::fuzzy::DomainPolicy::kReject;
+}
+
+std::uint32_t parse_base_id(const std::string& text) {
+  std::size_t used = 0;
+  unsigned long v = 0;
+  try {
+    v = std::stoul(text, &used, 0);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || v > 0x7FF) {
+    throw cmmcomp::ConfigError("--can-base-id '" + text +
+                               "': not an 11-bit identifier (e.g. 0x300)");
+  }
+  return static_cast<std::uint32_t>(v);
+}
+
+int serve(const Options& opt) {
+  spdlog::set_level(spdlog::level::from_str(opt.log_level));
+  spdlog::info("cmmcomp-agent {}", CMMCOMP_VERSION_STRING);
+
+  std::vector<ModelSlot> slots;
+  for (const std::string& m : opt.models) slots.push_back(cmmcomp::agent::parse_model_argument(m));
+  if (slots.empty()) {
+    slots.push_back(ModelSlot{0, ""});
+    spdlog::warn(
+        "no --model: serving the shipped default model on axis 0. It was trained on the "
+        "simulated default machine (digital twin), NOT on your machine; train one with "
+        "cmmcomp-train on your own measurements");
+  }
+
+  cmmcomp::compensation::CompensatorOptions copt;
+  copt.outside_domain = parse_policy(opt.outside_domain);
+  cmmcomp::compensation::MoveCompensator compensator(copt);
+  if (!report(cmmcomp::agent::load_slots(slots, compensator), false)) return 2;
+
+  // Block the signals before any thread starts, so that every thread inherits the mask.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGHUP);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  std::atomic<bool> stop{false};
+  std::atomic<bool> failed{false};
+  std::vector<std::unique_ptr<ServerThread>> threads;
+  // Servers are constructed here (bind errors are reported before anything serves).
+  std::unique_ptr<cmmcomp::plugins::CanServer> can;
+  std::unique_ptr<cmmcomp::plugins::ModbusServer> modbus;
+  if (!opt.can_interface.empty()) {
+    cmmcomp::plugins::CanServerOptions o;
+    o.interface = opt.can_interface;
+    o.base_id = parse_base_id(opt.can_base_id);
+    o.heartbeat_period = std::chrono::milliseconds(opt.can_heartbeat_ms);
+    o.part_timeout = std::chrono::milliseconds(opt.can_part_timeout_ms);
+    can = std::make_unique<cmmcomp::plugins::CanServer>(compensator, o);
+  }
+  if (!opt.modbus.empty()) {
+    cmmcomp::plugins::ModbusServerOptions o;
+    o.unit_id = opt.modbus_unit;
+    modbus = std::make_unique<cmmcomp::plugins::ModbusServer>(
+        compensator, cmmcomp::plugins::ModbusEndpoint::parse(opt.modbus), o);
+  }
+  for (const char* what : {"can", "modbus"}) {
+    std::string where;
+    if (std::string(what) == "can" && can) {
+      where = can->where();
+      threads.push_back(std::make_unique<ServerThread>(std::move(can), stop, failed));
+    } else if (std::string(what) == "modbus" && modbus) {
+      where = modbus->where();
+      threads.push_back(std::make_unique<ServerThread>(std::move(modbus), stop, failed));
+    } else {
+      continue;
+    }
+    // On stdout too, one line each, for scripts that wait for the agent to be ready.
+    std::printf("cmmcomp-agent: listening on %s\n", where.c_str());
+    std::fflush(stdout);
+    spdlog::info("listening on {}", where);
+  }
+
+  int exit_code = 0;
+  while (true) {
+    const timespec tick{0, 200'000'000};
+    const int sig = sigtimedwait(&signals, nullptr, &tick);
+    if (failed) {
+      exit_code = 1;
+      break;
+    }
+    if (sig == SIGHUP) {
+      spdlog::info("SIGHUP: reloading {} model(s)", slots.size());
+      report(cmmcomp::agent::load_slots(slots, compensator), true);
+    } else if (sig == SIGTERM || sig == SIGINT) {
+      spdlog::info("{}: stopping", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+      break;
+    } else if (sig < 0 && errno != EAGAIN && errno != EINTR) {
+      spdlog::critical("sigtimedwait failed: errno {}", errno);
+      exit_code = 1;
+      break;
+    }
+  }
+  stop = true;
+  threads.clear();  // joins; each thread logs its counters
+  spdlog::info("stopped");
+  return exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "cmmcomp-agent: serves the per-move dynamic-error compensator to a CMM controller over "
+      "SocketCAN (docs/protocol-can.md) and/or Modbus TCP/RTU (docs/protocol-modbus.md).\n"
+      "SIGHUP reloads the model files (a file that fails keeps the old model serving); SIGTERM "
+      "stops."};
+  Options opt;
+  app.add_option("--model",
+                 opt.models,
+                 "model file from cmmcomp-train, [AXIS=]PATH, AXIS 0-3 (default 0); repeat for "
+                 "several axes. Default: the shipped model of the simulated default machine");
+  auto* can = app.add_option("--can", opt.can_interface, "serve on this CAN interface (vcan0)");
+  app.add_option("--can-base-id", opt.can_base_id, "11-bit base identifier")->capture_default_str();
+  app.add_option("--can-heartbeat-ms", opt.can_heartbeat_ms, "heartbeat period, 0 = off")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 3'600'000));
+  app.add_option("--can-part-timeout-ms",
+                 opt.can_part_timeout_ms,
+                 "longest gap between the frames of one request")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 60'000));
+  auto* modbus = app.add_option(
+      "--modbus", opt.modbus, "serve Modbus on tcp:HOST:PORT or rtu:DEVICE:BAUD[,8N1]");
+  app.add_option("--modbus-unit", opt.modbus_unit, "Modbus unit id")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 247));
+  app.add_option("--outside-domain",
+                 opt.outside_domain,
+                 "moves outside the training ranges: clamp, extrapolate or reject")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"clamp", "extrapolate", "reject"}));
+  app.add_option("--log-level", opt.log_level, "trace, debug, info, warn, error, critical, off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+  app.set_version_flag("--version", std::string("cmmcomp-agent ") + CMMCOMP_VERSION_STRING);
+  CLI11_PARSE(app, argc, argv);
+  if (can->count() == 0 && modbus->count() == 0) {
+    std::fprintf(stderr,
+                 "cmmcomp-agent: nothing to serve: give --can IFACE and/or --modbus ENDPOINT\n");
+    return 2;
+  }
+  try {
+    return serve(opt);
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 2;
+  }
+}
