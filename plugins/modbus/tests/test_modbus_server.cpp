@@ -309,17 +309,18 @@ TEST_F(ModbusServerTest, StopIsNoticedQuickly) {
 
 // ---- RTU over a pseudo-terminal pair
 
-/// `socat -d -d pty,raw,echo=0 pty,raw,echo=0`, started by this test and killed by it.
+/// `socat -d -d pty,raw,echo=0 pty,raw,echo=0`, started by this test and killed by it. Its
+/// log goes to a file (not a pipe, which would break socat once we stop reading it).
 class PtyPair {
  public:
   PtyPair() {
-    int err[2];
-    if (::pipe(err) != 0) throw Error("pipe failed");
+    char log[] = "/tmp/cmmcomp-socat-XXXXXX";
+    const int fd = ::mkstemp(log);
+    if (fd < 0) throw Error("mkstemp failed");
+    log_ = log;
     pid_ = ::fork();
     if (pid_ == 0) {
-      ::dup2(err[1], 2);
-      ::close(err[0]);
-      ::close(err[1]);
+      ::dup2(fd, 2);
       ::execlp("socat",
                "socat",
                "-d",
@@ -329,25 +330,19 @@ class PtyPair {
                static_cast<char*>(nullptr));
       ::_exit(127);
     }
-    ::close(err[1]);
-    // socat prints "... N PTY is /dev/pts/K" for each end, then "starting data transfer loop".
-    FILE* in = ::fdopen(err[0], "r");
-    char line[512];
-    while ((a_.empty() || b_.empty()) && std::fgets(line, sizeof line, in) != nullptr) {
-      const char* p = std::strstr(line, "PTY is ");
-      if (p == nullptr) continue;
-      std::string name(p + 7);
-      while (!name.empty() && (name.back() == '\n' || name.back() == '\r')) name.pop_back();
-      (a_.empty() ? a_ : b_) = name;
+    ::close(fd);
+    // socat logs "... N PTY is /dev/pts/K" for each end, then "starting data transfer loop".
+    for (int i = 0; i < 100 && !ready(); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    std::fclose(in);  // socat keeps running; its later messages go to a closed pipe: fine
-    if (a_.empty() || b_.empty()) throw Error("socat did not print two PTY names");
+    if (!ready()) throw Error("socat did not report two PTYs and its transfer loop");
   }
   ~PtyPair() {
     if (pid_ > 0) {
       ::kill(pid_, SIGTERM);
       ::waitpid(pid_, nullptr, 0);
     }
+    ::unlink(log_.c_str());
   }
   PtyPair(const PtyPair&) = delete;
   PtyPair& operator=(const PtyPair&) = delete;
@@ -355,12 +350,33 @@ class PtyPair {
   const std::string& b() const { return b_; }
 
  private:
+  bool ready() {
+    std::FILE* in = std::fopen(log_.c_str(), "r");
+    if (in == nullptr) return false;
+    char line[512];
+    std::vector<std::string> names;
+    bool looping = false;
+    while (std::fgets(line, sizeof line, in) != nullptr) {
+      looping = looping || std::strstr(line, "starting data transfer loop") != nullptr;
+      const char* p = std::strstr(line, "PTY is ");
+      if (p == nullptr) continue;
+      std::string name(p + 7);
+      while (!name.empty() && (name.back() == '\n' || name.back() == '\r')) name.pop_back();
+      names.push_back(name);
+    }
+    std::fclose(in);
+    if (names.size() < 2 || !looping) return false;
+    a_ = names[0];
+    b_ = names[1];
+    return true;
+  }
+
   pid_t pid_ = -1;
+  std::string log_;
   std::string a_, b_;
 };
 
 TEST_F(ModbusServerTest, RtuOverAPseudoTerminalPair) {
-  ::signal(SIGPIPE, SIG_IGN);  // socat's stderr pipe is closed after the names are read
   PtyPair pty;
   ModbusServerOptions options;
   options.unit_id = 5;
