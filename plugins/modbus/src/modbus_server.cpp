@@ -164,8 +164,8 @@ struct ModbusServer::Impl {
   bool tcp() const { return endpoint.kind == ModbusEndpoint::Kind::kTcp; }
 
   std::string where() const {
-    if (tcp()) {
-      return "Modbus TCP " + endpoint.host + ":" + std::to_string(endpoint.port) + ", unit " +
+    if (tcp()) {  // HOST:PORT, an IPv6 address in brackets
+      return "Modbus TCP " + endpoint.to_string().substr(4) + ", unit " +
              std::to_string(options.unit_id);
     }
     return "Modbus RTU " + endpoint.device + " " + std::to_string(endpoint.baud) + " " +
