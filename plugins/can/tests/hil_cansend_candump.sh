@@ -39,7 +39,9 @@ block example:response | awk '{ print $3 }' >"$work/expected"
 [ "$(wc -l <"$work/request")" -eq 3 ] || fail "no 3-frame example request in $doc"
 [ "$(wc -l <"$work/expected")" -eq 3 ] || fail "no 3-frame example response in $doc"
 
-"$server" --interface vcan0 --heartbeat-ms 200 --part-timeout-ms 50 --max-seconds 60 \
+# A part timeout of 500 ms (default 50 ms): each cansend is a new process, slow under UML and
+# slower on a loaded CI machine; the example's three parts must not time out.
+"$server" --interface vcan0 --heartbeat-ms 200 --part-timeout-ms 500 --max-seconds 60 \
   >"$work/server.out" 2>"$work/server.err" &
 server_pid=$!
 for _ in $(seq 100); do
@@ -49,9 +51,15 @@ for _ in $(seq 100); do
 done
 grep -q '^ready:' "$work/server.out" || fail "server not ready after 5 s"
 
-candump -L vcan0 >"$work/dump" &
+# Line-buffered, so that the file shows what candump has seen so far.
+stdbuf -oL candump -L vcan0 >"$work/dump" &
 dump_pid=$!
-sleep 0.3
+# candump listens once it has logged a heartbeat (sent every 200 ms).
+for _ in $(seq 100); do
+  grep -q ' vcan0 303#' "$work/dump" && break
+  sleep 0.05
+done
+grep -q ' vcan0 303#' "$work/dump" || fail "candump saw no heartbeat within 5 s"
 
 # 1. The worked example: request in, response out.
 while read -r frame; do cansend vcan0 "$frame"; done <"$work/request"
@@ -66,13 +74,19 @@ while IFS='|' read -r _ sent answer _; do
   case "$sent" in
     *'part 0 alone'*)
       cansend vcan0 "$first_part"
-      sleep 0.3 ;;  # > part timeout: the server must reject on its own
+      sleep 0.7 ;;  # > part timeout: the server must reject on its own
     *)
       cansend vcan0 "$(echo "$sent" | sed -E 's/^[^`]*`([^`]*)`.*$/\1/')"
       sleep 0.1 ;;
   esac
 done <"$work/rejects"
-sleep 0.3  # at least one more heartbeat period
+# Wait (≤ 10 s) until every expected answer and a heartbeat that counts them were captured.
+want="$(wc -l <"$work/expected")"
+for _ in $(seq 200); do
+  got="$(grep -cE ' vcan0 30[12]#' "$work/dump" || true)"
+  [ "$got" -ge "$want" ] && grep -Eq ' vcan0 303#[0-9A-F][08]01000100040001$' "$work/dump" && break
+  sleep 0.05
+done
 
 kill -INT "$dump_pid"
 wait "$dump_pid" 2>/dev/null || true

@@ -342,9 +342,9 @@ inline Status to_raw(const SignalSpec& s, double v, std::int64_t& raw) noexcept 
 /// The three frames of one request.
 using RequestFrames = std::array<Frame, kRequestParts>;
 
-/// Encodes `move` (sequence taken modulo nothing: it must be ≤ 63) as three request frames for
-/// `base_id`. Returns kOk, or kInvalidInput with `*bad` (if given) naming the first field that is
-/// NaN, inf or outside its range; `out` is then unspecified. RT-safe.
+/// Encodes `move` (its sequence must be ≤ 63: the caller counts modulo 64) as three request frames
+/// for `base_id`. Returns kOk, or kInvalidInput with `*bad` (if given) naming the first field that
+/// is NaN, inf or outside its range; `out` is then unspecified. RT-safe.
 inline Status encode_request(const compensation::MoveRequest& move,
                              std::uint32_t base_id,
                              RequestFrames& out,
