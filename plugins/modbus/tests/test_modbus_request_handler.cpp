@@ -82,6 +82,24 @@ TEST_F(ModbusRequestHandlerTest, BlockThenSequenceWriteComputes) {
   EXPECT_EQ(map::decode_result(handler_.input()).mpe_um, 11.0);
 }
 
+TEST_F(ModbusRequestHandlerTest, FloatWrittenOneRegisterAtATime) {
+  ASSERT_EQ(send(pdu_write(0, request_regs(test::example_request()))).kind, Kind::kReply);
+  // PV 42.5 (0x422A0000) -> 20.0 (0x41A00000): high word, then low word, then the trigger.
+  const std::vector<std::uint8_t> high = {kWriteSingleRegister, 0, map::kPv, 0x41, 0xA0};
+  const std::vector<std::uint8_t> low = {kWriteSingleRegister, 0, map::kPv + 1, 0x00, 0x00};
+  const std::vector<std::uint8_t> seq = {kWriteSingleRegister, 0, map::kSequence, 0, 12};
+  EXPECT_EQ(send(high).kind, Kind::kReply);
+  EXPECT_EQ(send(low).kind, Kind::kReply);
+  EXPECT_EQ(send(seq).kind, Kind::kReply);
+  const map::Result r = map::decode_result(handler_.input());
+  EXPECT_EQ(r.sequence, 12);
+  EXPECT_EQ(r.rae_um, static_cast<double>(1.7f));  // 1.5 + (20 - 5)/75, in binary32
+  // A high word that makes the float NaN is refused on its own.
+  const std::vector<std::uint8_t> nan_high = {kWriteSingleRegister, 0, map::kPv, 0x7F, 0xC0};
+  EXPECT_EQ(send(nan_high).exception, kIllegalDataValue);
+  EXPECT_EQ(map::get_f32(&handler_.holding()[map::kPv]), 20.0f);
+}
+
 TEST_F(ModbusRequestHandlerTest, IllegalAddressIsException02) {
   const ModbusDecision d = send(pdu_read(kReadHoldingRegisters, map::kHoldingCount - 1, 2));
   EXPECT_EQ(d.kind, Kind::kException);
