@@ -4,7 +4,8 @@
 #
 # Runs COMMAND inside a User-Mode Linux guest that has real SocketCAN: the Debian UML kernel
 # (package user-mode-linux) boots with the host's / as its root file system (hostfs), loads the
-# can, can-raw, can-bcm, can-dev and vcan modules, brings up vcan0 and vcan1, changes to the
+# can, can-raw, can-bcm, can-dev and vcan modules, brings up vcan0 (classic CAN, MTU 16) and
+# vcan1 (CAN FD capable, MTU 72; classic frames work there too), changes to the
 # caller's working directory, runs COMMAND as root inside the guest with the caller's
 # environment, and powers off. COMMAND's stdout and stderr are copied to ours after the guest
 # stops, and its exit status becomes ours (UML itself always exits 0, so the guest writes $? to a
@@ -14,7 +15,8 @@
 # whole process group is killed); 125 when the guest could not be started or ended without
 # running COMMAND to its end; 1 when linux.uml or its modules are missing (never 77: a missing
 # environment is a failure in CI, scripts/install-deps.sh installs it).
-# Why a guest: the development and CI kernels have no AF_CAN (/work/shared/SOCKETCAN.md).
+# Why a guest: the development and CI kernels have no AF_CAN (shared/SOCKETCAN.md, beside the
+# repository).
 set -euo pipefail
 
 timeout_s=120
@@ -25,7 +27,7 @@ while [ $# -gt 0 ]; do
     --mem) mem="$2"; shift 2 ;;
     --) shift; break ;;
     -h|--help)
-      sed -n '3,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+      sed -n '3,19p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
       exit 0 ;;
     *) echo "uml-run: unknown option '$1' (usage: uml-run.sh [--timeout S] -- COMMAND ARGS...)" >&2
        exit 2 ;;
@@ -87,8 +89,9 @@ mount -t proc proc /proc
 mount -t sysfs sysfs /sys
 mount -t tmpfs tmpfs /run 2>/dev/null || true
 if ! modprobe -d '$work/tree' -a can can-raw can-bcm can-dev vcan 2>'$work/setup.err' ||
-   ! { ip link add dev vcan0 type vcan && ip link set up vcan0 &&
-       ip link add dev vcan1 type vcan && ip link set up vcan1 && ip link set up lo; } \
+   ! { ip link add dev vcan0 type vcan && ip link set vcan0 mtu 16 && ip link set up vcan0 &&
+       ip link add dev vcan1 type vcan && ip link set vcan1 mtu 72 && ip link set up vcan1 &&
+       ip link set up lo; } \
        2>>'$work/setup.err'; then
   echo setup-failed >'$work/rc'
   power_off

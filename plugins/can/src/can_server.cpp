@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include <fcntl.h>
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -29,12 +29,11 @@ std::string hex_id(std::uint32_t id) {
   return text;
 }
 
-can_frame to_kernel(const can::Frame& f) noexcept {
-  can_frame k{};
-  k.can_id = f.id & CAN_SFF_MASK;
-  k.can_dlc = f.dlc;
-  std::memcpy(k.data, f.data.data(), sizeof k.data);
-  return k;
+// The MTU of `interface` (16 classic, 72 CAN FD), or −1.
+int interface_mtu(int socket, const std::string& interface) {
+  ifreq request{};
+  std::strncpy(request.ifr_name, interface.c_str(), IFNAMSIZ - 1);
+  return ::ioctl(socket, SIOCGIFMTU, &request) == 0 ? request.ifr_mtu : -1;
 }
 
 }  // namespace
@@ -52,7 +51,6 @@ bool CanServerOptions::is_valid(std::string* why) const {
   }
   if (part_timeout.count() <= 0) return fail("part timeout must be > 0");
   if (heartbeat_period.count() < 0) return fail("heartbeat period must be >= 0 (0: off)");
-  if (fd) return fail("CAN FD is not supported by this version of the plugin");
   return true;
 }
 
@@ -61,8 +59,8 @@ CanServer::CanServer(const compensation::MoveCompensator& compensator,
     : options_(options), handler_(compensator, options.base_id, options.part_timeout) {
   std::string why;
   if (!options_.is_valid(&why)) throw ConfigError("CAN server options: " + why);
-  fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);
-  if (fd_ < 0) {
+  socket_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);
+  if (socket_ < 0) {
     const int e = errno;
     if (e == EAFNOSUPPORT) {
       throw Error(
@@ -72,8 +70,8 @@ CanServer::CanServer(const compensation::MoveCompensator& compensator,
     throw Error(std::string("cannot open a CAN_RAW socket: ") + std::strerror(e));
   }
   const auto fail = [this](const std::string& message) {
-    ::close(fd_);
-    fd_ = -1;
+    ::close(socket_);
+    socket_ = -1;
     throw Error(message);
   };
   const unsigned index = ::if_nametoindex(options_.interface.c_str());
@@ -83,30 +81,48 @@ CanServer::CanServer(const compensation::MoveCompensator& compensator,
   can_filter filter{};
   filter.can_id = options_.base_id + can::kRequestOffset;
   filter.can_mask = CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG;
-  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, &filter, sizeof filter) != 0) {
+  if (::setsockopt(socket_, SOL_CAN_RAW, CAN_RAW_FILTER, &filter, sizeof filter) != 0) {
     fail(std::string("cannot set the CAN filter: ") + std::strerror(errno));
+  }
+  if (options_.fd) {
+    const int mtu = interface_mtu(socket_, options_.interface);
+    if (mtu != static_cast<int>(CANFD_MTU)) {
+      fail(options_.interface + " is not a CAN FD interface (MTU " + std::to_string(mtu) +
+           ", CAN FD needs 72: ip link set " + options_.interface + " mtu 72)");
+    }
+    const int on = 1;
+    if (::setsockopt(socket_, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) != 0) {
+      fail(std::string("this kernel does not support CAN FD frames: ") + std::strerror(errno));
+    }
   }
   sockaddr_can address{};
   address.can_family = AF_CAN;
   address.can_ifindex = static_cast<int>(index);
-  if (::bind(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+  if (::bind(socket_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
     fail("cannot bind to " + options_.interface + ": " + std::strerror(errno));
   }
 }
 
 CanServer::~CanServer() {
-  if (fd_ >= 0) ::close(fd_);
+  if (socket_ >= 0) ::close(socket_);
 }
 
 std::string CanServer::where() const {
-  return "SocketCAN " + options_.interface + ", base id " + hex_id(options_.base_id);
+  return "SocketCAN " + options_.interface + (options_.fd ? " (CAN FD)" : "") + ", base id " +
+         hex_id(options_.base_id);
 }
 
-void CanServer::send(const can::FrameBatch& batch) noexcept {
+void CanServer::send(const can::FrameBatch& batch, bool as_fd) noexcept {
   std::uint64_t errors = 0;
   for (std::size_t i = 0; i < batch.size; ++i) {
-    const can_frame k = to_kernel(batch.frames[i]);
-    if (::send(fd_, &k, sizeof k, MSG_DONTWAIT) != static_cast<ssize_t>(sizeof k)) ++errors;
+    const can::Frame& f = batch.frames[i];
+    canfd_frame k{};  // a classic can_frame is its first CAN_MTU bytes
+    k.can_id = f.id & CAN_SFF_MASK;
+    k.len = f.dlc;
+    k.flags = as_fd ? CANFD_BRS : 0;
+    std::memcpy(k.data, f.data.data(), f.data.size());
+    const std::size_t size = as_fd ? CANFD_MTU : CAN_MTU;
+    if (::send(socket_, &k, size, MSG_DONTWAIT) != static_cast<ssize_t>(size)) ++errors;
   }
   if (errors != 0) handler_.count_send_errors(errors);
 }
@@ -117,11 +133,11 @@ void CanServer::send_heartbeat() noexcept {
   for (std::uint8_t page = 0; page < can::kHeartbeatPages; ++page) {
     batch.push(can::encode_heartbeat(h, page, options_.base_id));
     if (batch.size == can::FrameBatch::kCapacity) {
-      send(batch);
+      send(batch, false);  // classic: every node on the bus can read it
       batch.size = 0;
     }
   }
-  send(batch);
+  send(batch, false);
 }
 
 void CanServer::run(const std::atomic<bool>& stop) {
@@ -138,7 +154,7 @@ void CanServer::run(const std::atomic<bool>& stop) {
     }
     can::FrameBatch expired;
     handler_.on_time(now, expired);
-    send(expired);
+    send(expired, last_request_fd_);
 
     std::int64_t wait_ns = kStopCheckNs;
     if (period_ns > 0) wait_ns = std::min(wait_ns, next_heartbeat_ns - now);
@@ -146,7 +162,7 @@ void CanServer::run(const std::atomic<bool>& stop) {
     wait_ns = std::max<std::int64_t>(wait_ns, 0);
     const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000),
                            static_cast<long>(wait_ns % 1'000'000'000)};
-    pollfd p{fd_, POLLIN, 0};
+    pollfd p{socket_, POLLIN, 0};
     const int ready = ::ppoll(&p, 1, &timeout, nullptr);
     if (ready < 0) {
       if (errno == EINTR) continue;
@@ -157,22 +173,24 @@ void CanServer::run(const std::atomic<bool>& stop) {
       throw Error("the CAN socket on " + options_.interface + " failed (interface gone?)");
     }
     for (int i = 0; i < kFramesPerWakeup; ++i) {
-      can_frame k{};
-      const ssize_t n = ::recv(fd_, &k, sizeof k, MSG_DONTWAIT);
+      canfd_frame k{};  // large enough for either format; n tells which one came
+      const ssize_t n = ::recv(socket_, &k, sizeof k, MSG_DONTWAIT);
       if (n < 0) {
         if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) break;
         throw Error("reading from " + options_.interface + " failed: " + std::strerror(errno));
       }
-      if (n != static_cast<ssize_t>(sizeof k)) continue;  // not a classic frame
+      const bool is_fd = n == static_cast<ssize_t>(CANFD_MTU);
+      if (!is_fd && n != static_cast<ssize_t>(CAN_MTU)) continue;
       can::Frame f;
       f.id = (k.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) != 0
                  ? ~std::uint32_t{0}  // never a request id: counted as ignored
                  : (k.can_id & CAN_SFF_MASK);
-      f.dlc = std::min<std::uint8_t>(k.can_dlc, can::kFrameDlc);
-      std::memcpy(f.data.data(), k.data, f.dlc);
+      f.dlc = k.len;  // an FD frame longer than 8 bytes is a wrong-DLC reject
+      std::memcpy(f.data.data(), k.data, std::min<std::size_t>(k.len, f.data.size()));
+      last_request_fd_ = is_fd;
       can::FrameBatch out;
       handler_.on_frame(f, now_ns(), out);
-      send(out);
+      send(out, is_fd);
     }
   }
 }

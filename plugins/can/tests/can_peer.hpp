@@ -19,7 +19,8 @@ namespace cmmcomp::test {
 /// A CAN_RAW socket on `interface` that receives identifiers base … base + 3 (not its own).
 class CanPeer {
  public:
-  CanPeer(const std::string& interface, std::uint32_t base_id) {
+  /// With `fd`, the socket also sends and receives CAN FD frames (the interface must allow them).
+  CanPeer(const std::string& interface, std::uint32_t base_id, bool fd = false) {
     fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
     if (fd_ < 0) throw Error("peer: socket(PF_CAN) failed: " + std::string(std::strerror(errno)));
     can_filter filter{};
@@ -28,8 +29,10 @@ class CanPeer {
     sockaddr_can address{};
     address.can_family = AF_CAN;
     address.can_ifindex = static_cast<int>(::if_nametoindex(interface.c_str()));
+    const int on = 1;
     if (address.can_ifindex == 0 ||
         ::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, &filter, sizeof filter) != 0 ||
+        (fd && ::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) != 0) ||
         ::bind(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
       ::close(fd_);
       throw Error("peer: cannot bind to " + interface);
@@ -39,24 +42,33 @@ class CanPeer {
   CanPeer(const CanPeer&) = delete;
   CanPeer& operator=(const CanPeer&) = delete;
 
-  /// Sends a classic frame; `raw_id` may carry CAN_EFF_FLAG / CAN_RTR_FLAG.
-  bool send(const plugins::can::Frame& f, std::uint32_t raw_id_flags = 0) const {
-    can_frame k{};
+  /// Sends `f` as a classic frame, or as a CAN FD frame of length f.dlc (≤ 64; bytes past the
+  /// 8th are 0xAA) with `as_fd`; `raw_id_flags` may add CAN_EFF_FLAG / CAN_RTR_FLAG.
+  bool send(const plugins::can::Frame& f,
+            std::uint32_t raw_id_flags = 0,
+            bool as_fd = false) const {
+    canfd_frame k{};
     k.can_id = f.id | raw_id_flags;
-    k.can_dlc = f.dlc;
+    k.len = f.dlc;
+    k.flags = as_fd ? CANFD_BRS : 0;
+    std::memset(k.data, 0xAA, sizeof k.data);
     std::memcpy(k.data, f.data.data(), 8);
-    return ::write(fd_, &k, sizeof k) == static_cast<ssize_t>(sizeof k);
+    const std::size_t size = as_fd ? CANFD_MTU : CAN_MTU;
+    return ::write(fd_, &k, size) == static_cast<ssize_t>(size);
   }
 
-  /// Receives one frame within `timeout_ms`; false on timeout.
-  bool receive(plugins::can::Frame& f, int timeout_ms) const {
+  /// Receives one frame within `timeout_ms`; false on timeout. `*was_fd` (if given) tells
+  /// whether it was a CAN FD frame.
+  bool receive(plugins::can::Frame& f, int timeout_ms, bool* was_fd = nullptr) const {
     pollfd p{fd_, POLLIN, 0};
     if (::poll(&p, 1, timeout_ms) <= 0) return false;
-    can_frame k{};
-    if (::read(fd_, &k, sizeof k) != static_cast<ssize_t>(sizeof k)) return false;
+    canfd_frame k{};
+    const ssize_t n = ::read(fd_, &k, sizeof k);
+    if (n != static_cast<ssize_t>(CAN_MTU) && n != static_cast<ssize_t>(CANFD_MTU)) return false;
+    if (was_fd != nullptr) *was_fd = n == static_cast<ssize_t>(CANFD_MTU);
     f = plugins::can::Frame{};
     f.id = k.can_id & CAN_SFF_MASK;
-    f.dlc = k.can_dlc;
+    f.dlc = k.len;
     std::memcpy(f.data.data(), k.data, 8);
     return true;
   }

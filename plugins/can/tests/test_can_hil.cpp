@@ -32,7 +32,7 @@ class CanServerHil : public ::testing::Test {
               Status::kOk);
     server_ = std::make_unique<CanServer>(comp_, o);
     base_ = o.base_id;
-    peer_ = std::make_unique<CanPeer>(o.interface, o.base_id);
+    peer_ = std::make_unique<CanPeer>(o.interface, o.base_id, o.fd);
     thread_ = std::thread([this] { server_->run(stop_); });
   }
   void TearDown() override {
@@ -219,6 +219,62 @@ TEST_F(CanServerHil, StopIsNoticedPromptly) {
   thread_.join();
   // run() waits at most 100 ms in ppoll; the rest is slack for UML on a loaded machine.
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(400));
+}
+
+// vcan1 has the CAN FD MTU (scripts/uml-run.sh): FD requests get FD answers, classic ones
+// classic answers, and an FD frame longer than 8 bytes is a wrong-DLC reject.
+TEST_F(CanServerHil, CanFdRequestsAreAnsweredInCanFd) {
+  CanServerOptions o;
+  o.interface = "vcan1";
+  o.fd = true;
+  start(o);
+  EXPECT_EQ(server_->where(), "SocketCAN vcan1 (CAN FD), base id 0x300");
+  const RequestFrames f = request(4);
+  for (const Frame& x : f) ASSERT_TRUE(peer_->send(x, 0, true));
+  ResponseFrames r;
+  for (Frame& x : r) {
+    bool was_fd = false;
+    ASSERT_TRUE(peer_->receive(x, kWaitMs, &was_fd));
+    EXPECT_TRUE(was_fd);
+  }
+  DecodedResponse d;
+  ASSERT_TRUE(decode_response(r, base_, d));
+  EXPECT_EQ(d.correction.sequence, 4u);
+  EXPECT_DOUBLE_EQ(d.correction.rae_um, 3.5);
+
+  ASSERT_TRUE(send_all(request(5)));  // classic frames on the same bus
+  bool was_fd = true;
+  ASSERT_TRUE(peer_->receive(r[0], kWaitMs, &was_fd));
+  EXPECT_FALSE(was_fd);
+  ASSERT_TRUE(peer_->receive(r[1], kWaitMs) && peer_->receive(r[2], kWaitMs));
+  ASSERT_TRUE(decode_response(r, base_, d));
+  EXPECT_EQ(d.correction.sequence, 5u);
+
+  Frame long_frame = f[0];
+  long_frame.dlc = 12;
+  ASSERT_TRUE(peer_->send(long_frame, 0, true));
+  Frame reject_frame;
+  ASSERT_TRUE(peer_->receive(reject_frame, kWaitMs, &was_fd));
+  EXPECT_TRUE(was_fd);
+  RejectInfo rj;
+  ASSERT_TRUE(decode_reject(reject_frame, base_, rj));
+  EXPECT_EQ(rj.reason, RejectReason::kWrongDlc);
+  EXPECT_EQ(rj.sequence, 4);
+}
+
+TEST(CanServerHilSetup, CanFdNeedsACanFdInterface) {
+  compensation::MoveCompensator comp;
+  CanServerOptions o;
+  o.interface = "vcan0";  // classic MTU
+  o.fd = true;
+  try {
+    CanServer server(comp, o);
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "vcan0 is not a CAN FD interface (MTU 16, CAN FD needs 72: ip link set vcan0 mtu 72)");
+  }
 }
 
 TEST(CanServerHilSetup, NamesAMissingInterface) {

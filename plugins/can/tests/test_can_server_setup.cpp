@@ -33,9 +33,6 @@ TEST(CanServerSetup, InvalidOptionsAreConfigErrors) {
   o = CanServerOptions{};
   o.part_timeout = std::chrono::milliseconds(0);
   EXPECT_NE(message_of(o, comp).find("part timeout"), std::string::npos);
-  o = CanServerOptions{};
-  o.fd = true;
-  EXPECT_NE(message_of(o, comp).find("CAN FD"), std::string::npos);
   std::string why;
   EXPECT_TRUE(CanServerOptions{}.is_valid(&why)) << why;
 }

@@ -21,7 +21,10 @@ struct CanServerOptions {
   std::chrono::milliseconds part_timeout{50};
   /// Period of the heartbeat (five frames); 0 turns it off.
   std::chrono::milliseconds heartbeat_period{1000};
-  /// CAN FD. Not supported yet: true makes the constructor throw.
+  /// CAN FD bus: also accept the protocol's frames as CAN FD frames (CAN_RAW_FD_FRAMES) and
+  /// answer each request in the format it came in (FD frames with 8 data bytes and bit-rate
+  /// switch). The interface must have the CAN FD MTU (72). The payload layout is the classic
+  /// one either way; a frame longer than 8 bytes is rejected (reason 1, wrong DLC).
   bool fd = false;
 
   /// True when every field is usable; otherwise false and, if `why` is given, the reason.
@@ -32,7 +35,8 @@ struct CanServerOptions {
 class CanServer {
  public:
   /// Opens a PF_CAN/CAN_RAW socket, keeps only the request identifier (CAN_RAW_FILTER) and
-  /// binds it to `options.interface`. Setup only. Throws cmmcomp::ConfigError for invalid
+  /// binds it to `options.interface` (with `options.fd`: enables CAN_RAW_FD_FRAMES and checks
+  /// that the interface is a CAN FD one). Setup only. Throws cmmcomp::ConfigError for invalid
   /// options and cmmcomp::Error when the socket cannot be set up, with the reason ("no CAN
   /// support in this kernel (EAFNOSUPPORT) …", "no such interface vcan9", …).
   /// `compensator` must outlive the server; models may be published into it at any time.
@@ -56,12 +60,13 @@ class CanServer {
   const CanServerOptions& options() const noexcept { return options_; }
 
  private:
-  void send(const can::FrameBatch& batch) noexcept;
+  void send(const can::FrameBatch& batch, bool as_fd) noexcept;
   void send_heartbeat() noexcept;
 
   CanServerOptions options_;
   can::RequestHandler handler_;
-  int fd_ = -1;
+  int socket_ = -1;
+  bool last_request_fd_ = false;  ///< format of the last request frame: rejects by timeout use it
 };
 
 }  // namespace cmmcomp::plugins
