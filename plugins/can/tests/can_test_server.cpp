@@ -3,7 +3,7 @@
 // axis 0 (model id 0xC0FFEE01), prints "ready: <where>" once it listens and its counters when
 // SIGTERM, SIGINT or --max-seconds stop it.
 //   can_test_server [--interface vcan0] [--base-id 0x300] [--part-timeout-ms 50]
-//                   [--heartbeat-ms 1000] [--max-seconds 60]
+//                   [--heartbeat-ms 1000] [--max-seconds 60] [--fd 0|1]
 #include <unistd.h>
 
 #include <atomic>
@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
       options.part_timeout = std::chrono::milliseconds(std::atoi(value));
     } else if (flag == "--heartbeat-ms") {
       options.heartbeat_period = std::chrono::milliseconds(std::atoi(value));
+    } else if (flag == "--fd") {
+      options.fd = std::atoi(value) != 0;
     } else if (flag == "--max-seconds") {
       max_seconds = static_cast<unsigned>(std::atoi(value));
     } else {
