@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+/// @file The virtual controller's SocketCAN client (raw socket), optionally recording a candump
+/// log.
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+#include "correction_source.hpp"
+
+namespace cmmcomp::vc {
+
+/// Asks one agent over CAN (docs/protocol-can.md): three request frames, then waits for the
+/// three response frames of the same sequence or a reject. The socket's kernel filter passes
+/// only the response and reject identifiers, so heartbeats and other traffic never reach it
+/// (and never reach the recording: it stays deterministic).
+class CanLink final : public CorrectionSource {
+ public:
+  /// Opens a raw CAN socket on `interface`. Throws UnreachableError for a kernel without CAN
+  /// or a missing interface, ConfigError for a bad base id, Error when `record_path` cannot be
+  /// written.
+  CanLink(std::string label,
+          const std::string& interface,
+          std::uint32_t base_id,
+          int timeout_ms,
+          const std::string& record_path);
+  ~CanLink() override;
+  CanLink(const CanLink&) = delete;
+  CanLink& operator=(const CanLink&) = delete;
+
+  Answer ask(const compensation::MoveRequest& move) override;
+  const std::string& label() const noexcept override { return label_; }
+  const std::string& where() const noexcept override { return where_; }
+
+ private:
+  std::string label_;
+  std::string where_;
+  std::string interface_;
+  std::uint32_t base_id_;
+  int timeout_ms_;
+  int fd_ = -1;
+  std::uint32_t sequence_ = 0;
+  std::ofstream record_;
+};
+
+/// Parses "0x300" / "768": an 11-bit base id ≤ 0x7FC. Throws ConfigError.
+std::uint32_t parse_can_base_id(const std::string& text);
+
+}  // namespace cmmcomp::vc

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+/// @file Modbus TCP client of the virtual controller.
+#include "modbus_link.hpp"
+
+#include <modbus.h>
+
+#include <cerrno>
+#include <cmmcomp/plugins/modbus_register_map.hpp>
+#include <cstring>
+
+#include "modbus_relay.hpp"
+#include "recording_format.hpp"
+
+namespace cmmcomp::vc {
+
+namespace map = plugins::modbus_map;
+
+void parse_tcp_endpoint(const std::string& text, std::string& host, int& port) {
+  const std::string bad = "Modbus endpoint '" + text + "': expected tcp:HOST:PORT";
+  if (text.rfind("tcp:", 0) != 0) throw ConfigError(bad);
+  const std::string rest = text.substr(4);
+  const auto colon = rest.rfind(':');
+  if (colon == std::string::npos || colon == 0) throw ConfigError(bad);
+  host = rest.substr(0, colon);
+  if (host.size() > 2 && host.front() == '[' && host.back() == ']') {
+    host = host.substr(1, host.size() - 2);
+  }
+  const std::string p = rest.substr(colon + 1);
+  std::size_t used = 0;
+  long v = 0;
+  try {
+    v = std::stol(p, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != p.size() || p.empty() || v < 1 || v > 65535) throw ConfigError(bad);
+  port = static_cast<int>(v);
+}
+
+ModbusLink::ModbusLink(std::string label,
+                       const std::string& endpoint,
+                       int unit_id,
+                       int timeout_ms,
+                       const std::string& record_path)
+    : label_(std::move(label)), where_("modbus " + endpoint) {
+  std::string host;
+  int port = 0;
+  parse_tcp_endpoint(endpoint, host, port);
+  if (unit_id < 1 || unit_id > 255) throw ConfigError("--modbus-unit must be 1 … 255");
+  if (!record_path.empty()) {
+    relay_ = std::make_unique<ModbusRecordingRelay>(
+        host, port, record_path, modbus_transcript_header(label_, unit_id));
+    ctx_ = modbus_new_tcp("127.0.0.1", relay_->port());
+  } else {
+    ctx_ = modbus_new_tcp_pi(host.c_str(), std::to_string(port).c_str());
+  }
+  if (ctx_ == nullptr) throw Error("libmodbus: cannot create a TCP context for " + endpoint);
+  modbus_set_slave(ctx_, unit_id);
+  const auto ms = static_cast<std::uint32_t>(timeout_ms);
+  modbus_set_response_timeout(ctx_, ms / 1000, (ms % 1000) * 1000);
+  if (modbus_connect(ctx_) != 0) {
+    const std::string why = modbus_strerror(errno);
+    modbus_free(ctx_);
+    ctx_ = nullptr;
+    throw UnreachableError("agent '" + label_ + "' at " + endpoint + " unreachable: " + why);
+  }
+}
+
+ModbusLink::~ModbusLink() {
+  if (ctx_ != nullptr) {
+    modbus_close(ctx_);
+    modbus_free(ctx_);
+  }
+  relay_.reset();  // after the client closed: the relay sees the end of the session
+}
+
+Answer ModbusLink::ask(const compensation::MoveRequest& move) {
+  compensation::MoveRequest m = move;
+  m.sequence = ++sequence_;
+  map::HoldingRegisters h{};
+  map::encode_request(m, h);
+  std::array<std::uint16_t, map::kResultWords> copy{};
+  const int got = modbus_write_and_read_registers(
+      ctx_, 0, map::kRequestCount, h.data(), map::kResultCopy, map::kResultWords, copy.data());
+  Answer a;
+  if (got != map::kResultWords) {
+    const int e = errno;
+    if (got < 0 && e > MODBUS_ENOBASE && e < MODBUS_ENOBASE + 0x20) {
+      // An exception answer: the agent refused the request; the controller probes on.
+      a.note = std::string("modbus exception: ") + modbus_strerror(e);
+      a.status = -1;
+      return a;
+    }
+    throw Error("agent '" + label_ + "' (" + where_ +
+                "): " + (got < 0 ? std::string(modbus_strerror(e)) : "short answer"));
+  }
+  map::InputRegisters in{};
+  std::copy(copy.begin(), copy.end(), in.begin() + map::kResultSequence);
+  const map::Result r = map::decode_result(in);
+  a.status = r.status;
+  a.flags = r.flags;
+  a.rae_um = r.rae_um;
+  a.correction_um = r.correction_um;
+  a.model_id = r.model_id;
+  if (r.sequence != m.sequence) {
+    a.note = "sequence mismatch";
+  } else if ((r.flags & compensation::kFlagOk) == 0) {
+    a.note = "flags without OK";
+  } else {
+    a.usable = true;
+  }
+  return a;
+}
+
+}  // namespace cmmcomp::vc
