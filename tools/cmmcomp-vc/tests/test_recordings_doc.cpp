@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+/// @file docs/recordings.md against the code: its example lines have exactly the documented
+/// form, the transcript header is what the vc writes, and the example frames and registers
+/// decode to the values the document states.
+#include <gtest/gtest.h>
+
+#include <cmmcomp/plugins/can_protocol.hpp>
+#include <cmmcomp/plugins/modbus_register_map.hpp>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "recording_format.hpp"
+
+#ifndef CMMCOMP_RECORDINGS_DOC
+#error "CMMCOMP_RECORDINGS_DOC must name docs/recordings.md"
+#endif
+
+namespace cmmcomp::vc {
+namespace {
+
+/// Lines of the ```text blocks of the document.
+std::vector<std::string> example_lines() {
+  std::ifstream in(CMMCOMP_RECORDINGS_DOC);
+  std::vector<std::string> out;
+  std::string line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("```", 0) == 0) {
+      inside = line == "```text";
+      continue;
+    }
+    if (inside) out.push_back(line);
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> bytes_of(const std::string& hex) {
+  std::vector<std::uint8_t> out;
+  std::istringstream in(hex);
+  std::string b;
+  while (in >> b) out.push_back(static_cast<std::uint8_t>(std::stoul(b, nullptr, 16)));
+  return out;
+}
+
+TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
+  const std::regex adu(R"(^[0-9]+\.[0-9]{6} (tx|rx)(( [0-9a-f]{2})+)$)");
+  std::string header;
+  std::vector<std::vector<std::uint8_t>> adus;
+  for (const auto& l : example_lines()) {
+    if (l.rfind("# ", 0) == 0) {
+      header += l + "\n";
+      continue;
+    }
+    std::smatch m;
+    if (std::regex_match(l, m, adu)) adus.push_back(bytes_of(m[2].str()));
+  }
+  EXPECT_EQ(header, modbus_transcript_header("agent", 1));
+  ASSERT_EQ(adus.size(), 2u);
+  for (const auto& a : adus) {
+    ASSERT_GE(a.size(), 8u);
+    EXPECT_EQ(a.size(), 6u + ((std::size_t{a[4]} << 8) | a[5])) << "MBAP length";
+  }
+  // The request registers start at byte 17 (after MBAP, FC23's four addresses and byte count).
+  plugins::modbus_map::HoldingRegisters h{};
+  for (std::size_t i = 0; i < plugins::modbus_map::kRequestCount; ++i) {
+    h[i] = static_cast<std::uint16_t>((adus[0][17 + 2 * i] << 8) | adus[0][18 + 2 * i]);
+  }
+  compensation::MoveRequest m;
+  ASSERT_EQ(plugins::modbus_map::decode_request(h, m), Status::kOk);
+  EXPECT_EQ(m.direction[0], -1.0);
+  EXPECT_EQ(m.pv_mm_s, 100.0);
+  EXPECT_EQ(m.ad_mm, 10.0);
+  EXPECT_EQ(m.sequence, 1u);
+  plugins::modbus_map::InputRegisters in{};
+  for (std::size_t i = 0; i < plugins::modbus_map::kResultWords; ++i) {
+    in[1 + i] = static_cast<std::uint16_t>((adus[1][9 + 2 * i] << 8) | adus[1][10 + 2 * i]);
+  }
+  const auto r = plugins::modbus_map::decode_result(in);
+  EXPECT_EQ(r.sequence, 1u);
+  EXPECT_NEAR(r.rae_um, -5.298, 5e-4);
+  EXPECT_NEAR(r.correction_um[0], 5.298, 5e-4);
+  EXPECT_EQ(r.model_id, 0xc2fc35069149ab07ull);
+}
+
+TEST(RecordingsDoc, CandumpExampleHasTheDocumentedFormAndDecodes) {
+  const std::regex frame(R"(^\(([0-9]+)\.([0-9]{6})\) (vcan0) ([0-9A-F]{3})#([0-9A-F]{16})$)");
+  std::vector<plugins::can::Frame> frames;
+  for (const auto& l : example_lines()) {
+    std::smatch m;
+    if (!std::regex_match(l, m, frame)) continue;
+    plugins::can::Frame f;
+    f.id = static_cast<std::uint32_t>(std::stoul(m[4].str(), nullptr, 16));
+    f.dlc = 8;
+    for (std::size_t i = 0; i < 8; ++i) {
+      f.data[i] = static_cast<std::uint8_t>(std::stoul(m[5].str().substr(2 * i, 2), nullptr, 16));
+    }
+    // The writer produces exactly this line back.
+    const std::int64_t us = std::stoll(m[1].str()) * 1000000 + std::stoll(m[2].str());
+    EXPECT_EQ(candump_line(us, "vcan0", f), l + "\n");
+    frames.push_back(f);
+  }
+  ASSERT_EQ(frames.size(), 6u);
+  plugins::can::ResponseFrames resp{frames[3], frames[4], frames[5]};
+  plugins::can::DecodedResponse d;
+  ASSERT_TRUE(plugins::can::decode_response(resp, 0x300, d));
+  EXPECT_NEAR(d.correction.rae_um, -5.30, 1e-9);
+  EXPECT_NEAR(d.correction.correction_um[0], 5.30, 1e-9);
+  EXPECT_EQ(d.correction.model_id, 0x9149AB07u);
+}
+
+}  // namespace
+}  // namespace cmmcomp::vc
