@@ -139,7 +139,7 @@ int main(int argc, char** argv) {
                  opt.fast,
                  "fast setting over PV 100 PD 60 AV 16 AD 10 PA 200 AA 60, e.g. pv=80,av=12");
   app.add_option(
-      "--slow", opt.slow, "slow reference over PV 20 PD 60 AV 2 AD 2 PA 200 AA 60, e.g. av=1,ad=1");
+      "--slow", opt.slow, "slow reference over PV 20 PD 60 AV 1 AD 2 PA 200 AA 60, e.g. av=2");
   app.add_option("--seed", opt.seed, "seed of the Table 1 measurement noise")
       ->capture_default_str();
   app.add_flag("--no-noise", opt.no_noise, "the twin without measurement noise");

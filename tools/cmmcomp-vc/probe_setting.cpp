@@ -23,7 +23,7 @@ ProbeSetting default_slow_setting() {
   s.name = "slow";
   s.pv_mm_s = 20;
   s.pd_mm = 60;
-  s.av_mm_s = 2;
+  s.av_mm_s = 1;
   s.ad_mm = 2;
   s.compensated = false;
   return s;

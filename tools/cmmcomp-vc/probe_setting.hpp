@@ -24,8 +24,9 @@ struct ProbeSetting {
 /// AD 10 mm in the middle of theirs (PD 40–80, AD 5–15 mm).
 ProbeSetting default_fast_setting();
 
-/// Slow reference: how such a machine probes today without compensation, PV 20 mm/s and a short
-/// approach at 2 mm/s over 2 mm.
+/// Slow reference: how such a machine probes without compensation to meet its MPE_E: PV 20 mm/s,
+/// then 2 mm of approach at 1 mm/s (on the twin the touch then lags by only 0.2–0.4 µm; at
+/// AV 2 mm/s over 2 mm it is 0.9–1.7 µm, which with the probing scatter already fails MPE_E).
 ProbeSetting default_slow_setting();
 
 /// Parses "pv=100,pd=60,av=16,ad=10[,pa=200][,aa=60]" over `base` (keys not given keep their

@@ -159,7 +159,7 @@ TEST(ProbeSetting, TimePerPointIsPositioningPlusApproach) {
   const ProbeSetting fast = default_fast_setting();
   EXPECT_NEAR(time_per_point_s(fast), 60.0 / 100 + 100.0 / 200 + 10.0 / 16 + 16.0 / 120, 1e-9);
   const ProbeSetting slow = default_slow_setting();
-  EXPECT_NEAR(time_per_point_s(slow), 60.0 / 20 + 20.0 / 200 + 2.0 / 2 + 2.0 / 120, 1e-9);
+  EXPECT_NEAR(time_per_point_s(slow), 60.0 / 20 + 20.0 / 200 + 2.0 / 1 + 1.0 / 120, 1e-9);
 }
 
 TEST(ProbeSetting, ParsesOverridesAndRejectsNonsense) {
