@@ -4,7 +4,7 @@
 # serves the default model on vcan0, cmmcomp-vc runs a reduced length test over CAN and records
 # a candump log. Checks: the vc succeeds, compensation shrinks every fast length error, the
 # recording is candump -l format (every line, exact count), log2asc converts it, and a second
-# run with the same seed records the same frames.
+# run with the same seed records the same frames; two agents (base ids 0x300, 0x310) in one run.
 set -euo pipefail
 agent="$1"; vc="$2"; out="$3"
 mkdir -p "$out"
@@ -52,4 +52,19 @@ python_free_check() {
     END { if (n != 6) { print "expected 6 cases, got " n; bad=1 } exit bad }'
 }
 python_free_check "$out/report1.json"
+
+# Two agents on one bus, told apart by their base ids, compared in one run: one recording each.
+"$agent" --can vcan0 --can-base-id 0x310 >"$out/agent2.log" 2>&1 &
+agent2_pid=$!
+trap 'kill "$agent_pid" "$agent2_pid" 2>/dev/null || true; wait 2>/dev/null || true' EXIT
+for _ in $(seq 100); do
+  grep -q "listening on" "$out/agent2.log" && break
+  sleep 0.05
+done
+"$vc" --agent a=can:vcan0 --agent b=can:vcan0:0x310 --lengths 20 --y 250 --repeats 1 \
+  --record "$out/two.log" >"$out/two.txt"
+[ "$(grep -c ' 310#' "$out/two.b.log")" -eq 6 ] || { echo "agent b: request frames"; exit 1; }
+[ "$(grep -c ' 311#' "$out/two.b.log")" -eq 6 ] || { echo "agent b: response frames"; exit 1; }
+[ "$(grep -c ' 301#' "$out/two.a.log")" -eq 6 ] || { echo "agent a: response frames"; exit 1; }
+grep -q "fast + b compensation" "$out/two.txt" || { cat "$out/two.txt"; exit 1; }
 echo "hil_vc_can: ok ($lines frames recorded, log2asc read them, runs identical)"
