@@ -4,7 +4,7 @@
 
 #include <cmmcomp/compensation/move_compensator.hpp>
 #include <cmmcomp/error.hpp>
-#include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdint>
 #include <cstdlib>
@@ -53,11 +53,11 @@ int read_file(const char* path, std::string& text) {
 
 // Parses, then publishes to every axis. Publication validates each model again; the model
 // file parser already guarantees it, so a failure there is internal.
+// Either architecture (PV, PD, AV, AD [, Y]); see io/compensation_model_file.hpp.
 int publish_text(cm::MoveCompensator& comp, const std::string& text, const std::string& source) {
-  const auto file = cmmcomp::io::parse_model_json<4, 3, 4>(text, source);
-  const std::uint64_t id = std::strtoull(file.model_id.c_str(), nullptr, 16);
+  const auto file = cmmcomp::io::parse_compensation_model(text, source);
   for (int axis = 0; axis < cm::kMaxAxes; ++axis) {
-    if (comp.publish(axis, file.model, id) != cmmcomp::Status::kOk) return CMMCOMP_E_INTERNAL;
+    if (cmmcomp::io::publish(comp, axis, file) != cmmcomp::Status::kOk) return CMMCOMP_E_INTERNAL;
   }
   return CMMCOMP_OK;
 }

@@ -83,8 +83,12 @@ std::vector<io::DatasetRow> rows_from_design(const doe::Design& design,
   const int pd = design.factor_index("PD");
   const int av = design.factor_index("AV");
   const int ad = design.factor_index("AD");
-  if (pv < 0 || pd < 0 || av < 0 || ad < 0 || design.factors() != 4) {
-    throw std::invalid_argument("a move design needs exactly the factors PV, PD, AV, AD");
+  const auto& names = design.factor_names;
+  const int y =
+      std::find(names.begin(), names.end(), "Y") == names.end() ? -1 : design.factor_index("Y");
+  if (pv < 0 || pd < 0 || av < 0 || ad < 0 || design.factors() != (y < 0 ? 4 : 5)) {
+    throw std::invalid_argument(
+        "a move design needs exactly the factors PV, PD, AV, AD and optionally Y");
   }
   std::vector<io::DatasetRow> rows;
   rows.reserve(static_cast<std::size_t>(design.runs()));
@@ -96,7 +100,7 @@ std::vector<io::DatasetRow> rows_from_design(const doe::Design& design,
     row.ad_mm = design.value(r, ad) * 1e3;
     row.pa_mm_s2 = fixed.pa_mm_s2;
     row.aa_mm_s2 = fixed.aa_mm_s2;
-    row.y_mm = fixed.y_mm;
+    row.y_mm = y < 0 ? fixed.y_mm : design.value(r, y) * 1e3;
     rows.push_back(row);
   }
   return rows;

@@ -2,8 +2,8 @@
 #include "model_slots.hpp"
 
 #include <cmmcomp/error.hpp>
+#include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/default_model.hpp>
-#include <cmmcomp/io/model_file.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -39,11 +39,12 @@ std::vector<SlotOutcome> load_slots(const std::vector<ModelSlot>& slots,
     out.axis = slot.axis;
     out.source = slot.path.empty() ? io::kDefaultModelSource : slot.path;
     try {
-      const io::ModelFile<4, 3, 4> file =
-          slot.path.empty() ? io::default_model_file() : io::load_model_file<4, 3, 4>(slot.path);
-      const std::uint64_t id = std::strtoull(file.model_id.c_str(), nullptr, 16);
+      const io::CompensationModelFile file =
+          slot.path.empty() ? io::CompensationModelFile{io::default_model_file()}
+                            : io::load_compensation_model(slot.path);
+      out.inputs = io::model_inputs(file);
       std::string why;
-      if (compensator.publish(slot.axis, file.model, id, &why) != Status::kOk) {
+      if (io::publish(compensator, slot.axis, file, &why) != Status::kOk) {
         out.error = "refused by the compensator: " + why;
       } else {
         out.loaded = true;

@@ -25,6 +25,7 @@ struct SlotOutcome {
   int axis = 0;
   std::string source;    ///< file path or the default model's source
   std::string model_id;  ///< id now serving the axis (16 hex), empty if none
+  int inputs = 0;        ///< inputs of the file's network (4, or 5 with Y); 0 if unreadable
   bool loaded = false;   ///< true: the file was (re)loaded and published
   std::string error;     ///< why not, when !loaded; the previous model keeps serving
 };

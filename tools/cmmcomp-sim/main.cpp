@@ -148,8 +148,8 @@ std::vector<cmmcomp::doe::Factor> parse_levels(const std::string& text) {
       throw cmmcomp::ConfigError("--levels: '" + group + "' is not NAME=v1,v2,...");
     }
     const std::string name = group.substr(0, eq);
-    if (name != "pv" && name != "pd" && name != "av" && name != "ad") {
-      throw cmmcomp::ConfigError("--levels: unknown factor '" + name + "' (pv, pd, av, ad)");
+    if (name != "pv" && name != "pd" && name != "av" && name != "ad" && name != "y") {
+      throw cmmcomp::ConfigError("--levels: unknown factor '" + name + "' (pv, pd, av, ad, y)");
     }
     std::istringstream values(group.substr(eq + 1));
     std::string v;
@@ -157,11 +157,13 @@ std::vector<cmmcomp::doe::Factor> parse_levels(const std::string& text) {
       try {
         std::size_t used = 0;
         const double x = std::stod(v, &used);
-        if (used != v.size() || !(x > 0)) throw std::invalid_argument(v);
+        // Y (carriage position) may be 0, the drive side; the move parameters must be > 0.
+        if (used != v.size() || !(name == "y" ? x >= 0 : x > 0)) throw std::invalid_argument(v);
         found[name].push_back(x * kMm);
       } catch (const std::exception&) {
-        throw cmmcomp::ConfigError("--levels: factor '" + name + "': '" + v +
-                                   "' is not a positive number");
+        throw cmmcomp::ConfigError(
+            "--levels: factor '" + name + "': '" + v +
+            (name == "y" ? "' is not a number >= 0" : "' is not a positive number"));
       }
     }
   }
@@ -172,6 +174,8 @@ std::vector<cmmcomp::doe::Factor> parse_levels(const std::string& text) {
     for (char& ch : upper) ch = static_cast<char>(ch - 'a' + 'A');
     factors.push_back({upper, found[name]});
   }
+  // Optional fifth factor: the carriage position, for models with Y as an input.
+  if (!found["y"].empty()) factors.push_back({"Y", found["y"]});
   return factors;
 }
 
@@ -189,9 +193,16 @@ cmmcomp::doe::Design design_from(const DatasetCommand& cmd) {
       }
     }
   };
+  const bool with_y = factors.size() == 5;
   if (cmd.design == "l18") {
     require_levels(3, "l18");
-    return assign(taguchi_l18(), factors, paper_l18_assignment());
+    std::vector<int> columns = paper_l18_assignment();
+    if (with_y) columns.push_back(5);  // the next free 3-level column
+    return assign(taguchi_l18(), factors, columns);
+  }
+  if (with_y && (cmd.design == "l9" || cmd.design == "l27")) {
+    throw cmmcomp::ConfigError("--design " + cmd.design +
+                               " has no column for y; use l18, full or lhs with y levels");
   }
   if (cmd.design == "l9") {
     require_levels(3, "l9");
@@ -435,7 +446,11 @@ int main(int argc, char** argv) {
   dataset->add_option("--samples", ds.samples, "samples of an lhs design")
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();
-  dataset->add_option("--levels", ds.levels, "factor levels [mm, mm/s] (lhs: min and max)")
+  dataset
+      ->add_option("--levels",
+                   ds.levels,
+                   "factor levels [mm, mm/s] (lhs: min and max); add ';y=0,250,500' to vary "
+                   "the carriage position (then --y is not used)")
       ->capture_default_str();
   dataset->add_option("--pa", ds.pa, "positioning acceleration [mm/s^2]")->capture_default_str();
   dataset->add_option("--aa", ds.aa, "approach acceleration [mm/s^2]")->capture_default_str();

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/paper_reference.hpp>
@@ -19,12 +20,35 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace {
 
-using cmmcomp::fuzzy::PaperMultiNetwork;
-using PaperModelFile = cmmcomp::io::ModelFile<4, 3, 4>;
+/// The trainer's input set: the paper's (PV, PD, AV, AD) or with the carriage position Y.
+template <int kInputs>
+struct InputSet;
+template <>
+struct InputSet<4> {
+  static cmmcomp::training::PaperSamples samples(const std::vector<cmmcomp::io::DatasetRow>& r) {
+    return cmmcomp::training::paper_samples(r);
+  }
+  static std::vector<std::string> names() { return cmmcomp::training::paper_input_names(); }
+};
+template <>
+struct InputSet<5> {
+  static cmmcomp::training::PaperSamplesY samples(const std::vector<cmmcomp::io::DatasetRow>& r) {
+    return cmmcomp::training::paper_samples_with_y(r);
+  }
+  static std::vector<std::string> names() { return {"PV", "PD", "AV", "AD", "Y"}; }
+};
+
+/// "pv,pd,av,ad" -> 4, "pv,pd,av,ad,y" -> 5 (the only two the compensator serves).
+int input_count(const std::string& inputs) {
+  if (inputs == "pv,pd,av,ad") return 4;
+  if (inputs == "pv,pd,av,ad,y") return 5;
+  throw cmmcomp::ConfigError("--inputs must be pv,pd,av,ad or pv,pd,av,ad,y, not '" + inputs + "'");
+}
 
 constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
 
@@ -34,8 +58,10 @@ struct FitCommand {
   std::uint64_t seed = 1;
   double lambda = -1;
   int max_iterations = cmmcomp::training::FnnTrainingOptions{}.max_iterations;
+  std::string inputs = "pv,pd,av,ad";
 };
 
+template <int kInputs>
 int run_fit(const FitCommand& cmd) {
   using namespace cmmcomp::training;
   const auto rows = cmmcomp::io::read_dataset_csv(cmd.data);
@@ -43,7 +69,7 @@ int run_fit(const FitCommand& cmd) {
     throw cmmcomp::ConfigError(
         fmt::format("{}: {} samples, fewer than the {} folds", cmd.data, rows.size(), cmd.folds));
   }
-  const PaperSamples samples = paper_samples(rows);
+  const auto samples = InputSet<kInputs>::samples(rows);
   FnnTrainingOptions options;
   options.method =
       cmd.method == "gd" ? FnnMethod::kGradientDescent : FnnMethod::kLevenbergMarquardt;
@@ -51,13 +77,13 @@ int run_fit(const FitCommand& cmd) {
   options.seed = cmd.seed;
   options.lambda = cmd.lambda;
   options.max_iterations = cmd.max_iterations;
-  options.input_names = paper_input_names();
+  options.input_names = InputSet<kInputs>::names();
   if (isatty(fileno(stderr)) != 0) {
     options.progress = [](int iteration, double cost) {
       std::fprintf(stderr, "\riteration %4d  cost %.6g", iteration, cost);
     };
   }
-  const auto result = train_fnn<4, 3, 4>(samples.inputs, samples.targets, options);
+  const auto result = train_fnn<kInputs, 3, 4>(samples.inputs, samples.targets, options);
   if (options.progress) std::fputc('\n', stderr);
   const TrainingSummary& s = result.summary;
   std::printf("trained %s on %zu samples of %s in %.2f s: %s\n",
@@ -80,7 +106,7 @@ int run_fit(const FitCommand& cmd) {
     std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n", s.message.c_str());
     return 1;
   }
-  PaperModelFile file;
+  cmmcomp::io::ModelFile<kInputs, 3, 4> file;
   file.model = result.model;
   cmmcomp::io::set_paper_names(file);
   file.training.data_file_sha256 = cmmcomp::io::sha256_file_hex(cmd.data);
@@ -100,18 +126,19 @@ struct Table5Row {
   double mean_before = 0, mean_after = 0, reduction_pct = 0, var_after = 0, max_abs = 0;
 };
 
+template <int kInputs>
 int run_eval(const std::string& model_path,
              const std::string& data,
              bool json,
              const std::string& plot) {
-  const PaperModelFile file = cmmcomp::io::load_model_file<4, 3, 4>(model_path);
+  const auto file = cmmcomp::io::load_model_file<kInputs, 3, 4>(model_path);
   const auto rows = cmmcomp::io::read_dataset_csv(data);
-  const auto samples = cmmcomp::training::paper_samples(rows);
+  const auto samples = InputSet<kInputs>::samples(rows);
   const std::size_t n = rows.size();
   std::array<std::vector<double>, 4> measured, predicted;
   std::size_t outside = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    PaperMultiNetwork::RawOutput y{};
+    std::array<double, 4> y{};
     const cmmcomp::Status st = cmmcomp::fuzzy::evaluate(
         file.model, samples.inputs[i], y, cmmcomp::fuzzy::DomainPolicy::kClamp);
     if (!cmmcomp::ok(st)) {
@@ -153,11 +180,14 @@ int run_eval(const std::string& model_path,
     }
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    std::printf("model %s on %s: %zu samples (%zu outside the training ranges, clamped)\n",
-                file.model_id.c_str(),
-                data.c_str(),
-                n,
-                outside);
+    std::printf(
+        "model %s (%d inputs) on %s: %zu samples (%zu outside the training ranges, "
+        "clamped)\n",
+        file.model_id.c_str(),
+        kInputs,
+        data.c_str(),
+        n,
+        outside);
     std::printf("Table 5 layout; in brackets the paper's Table 5\n");
     std::printf("%-5s %20s %20s %20s %20s %12s\n",
                 "",
@@ -241,6 +271,12 @@ int main(int argc, char** argv) {
   fit->add_option("--max-iterations", fit_cmd.max_iterations, "LM iterations")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
+  fit->add_option("--inputs",
+                  fit_cmd.inputs,
+                  "network inputs: pv,pd,av,ad (the paper's, 81 rules) or pv,pd,av,ad,y (with the "
+                  "carriage position, 243 rules)")
+      ->check(CLI::IsMember({"pv,pd,av,ad", "pv,pd,av,ad,y"}))
+      ->capture_default_str();
 
   std::string model_path, data_path, plot_path, header_path, symbol = "cmmcomp_model";
   bool json = false;
@@ -261,13 +297,22 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (fit->parsed()) return run_fit(fit_cmd);
-    if (eval->parsed()) return run_eval(model_path, data_path, json, plot_path);
-    if (exp->parsed()) {
-      const PaperModelFile file = cmmcomp::io::load_model_file<4, 3, 4>(model_path);
-      cmmcomp::io::detail::write_text_file(header_path,
-                                           cmmcomp::io::export_model_header(file, symbol));
-      std::printf("wrote %s (model id %s)\n", header_path.c_str(), file.model_id.c_str());
+    if (fit->parsed()) {
+      return input_count(fit_cmd.inputs) == 5 ? run_fit<5>(fit_cmd) : run_fit<4>(fit_cmd);
+    }
+    if (eval->parsed() || exp->parsed()) {
+      // Either architecture the compensator serves; the file says which.
+      const auto any = cmmcomp::io::load_compensation_model(model_path);
+      const int inputs = cmmcomp::io::model_inputs(any);
+      if (eval->parsed()) {
+        return inputs == 5 ? run_eval<5>(model_path, data_path, json, plot_path)
+                           : run_eval<4>(model_path, data_path, json, plot_path);
+      }
+      const std::string header = std::visit(
+          [&](const auto& file) { return cmmcomp::io::export_model_header(file, symbol); }, any);
+      cmmcomp::io::detail::write_text_file(header_path, header);
+      std::printf(
+          "wrote %s (model id %s)\n", header_path.c_str(), cmmcomp::io::model_id(any).c_str());
       return 0;
     }
   } catch (const std::exception& e) {

@@ -29,12 +29,18 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <type_traits>
 
 namespace cmmcomp::compensation {
 
-/// The model a MoveCompensator evaluates: inputs (PV [mm/s], PD [mm], AV [mm/s], AD [mm]),
-/// 3 sets each, outputs (MPE, RPE, MAE, RAE) [µm] — what cmmcomp-train writes.
+/// The paper's model a MoveCompensator evaluates: inputs (PV [mm/s], PD [mm], AV [mm/s],
+/// AD [mm]), 3 sets each, 81 rules, outputs (MPE, RPE, MAE, RAE) [µm] — what cmmcomp-train
+/// writes by default.
 using CompensationModel = fuzzy::PaperMultiNetwork;
+/// The same with the carriage position as a fifth input (PV, PD, AV, AD, Y [mm]; 243 rules):
+/// the dynamic errors grow with Y (the paper's Table 2), which the 4-input model cannot see.
+/// `cmmcomp-train fit --inputs pv,pd,av,ad,y` writes it.
+using CompensationModelY = fuzzy::TskModel<double, 5, 3, 4>;
 
 /// Options of a MoveCompensator, fixed at construction.
 struct CompensatorOptions {
@@ -60,8 +66,9 @@ class MoveCompensator {
  public:
   using Model = CompensationModel;
 
-  /// Allocates every model buffer (about 105 kB). Setup only. Throws ConfigError when
-  /// `options` is not valid (aborts instead when built with -fno-exceptions).
+  /// Allocates every model buffer (about 480 kB: two 4-input and two 5-input models per axis).
+  /// Setup only. Throws ConfigError when `options` is not valid (aborts instead when built
+  /// with -fno-exceptions).
   explicit MoveCompensator(const CompensatorOptions& options = {})
       : options_(options), axes_(std::make_unique<Axis[]>(kMaxAxes)) {
     std::string why;
@@ -92,30 +99,21 @@ class MoveCompensator {
                  const Model& model,
                  std::uint64_t model_id = 0,
                  std::string* why = nullptr) {
-    if (axis < 0 || axis >= kMaxAxes) {
-      if (why != nullptr) *why = "axis out of range";
-      return Status::kInvalidInput;
-    }
-    if (!fuzzy::validate(model, why)) return Status::kInvalidInput;
-    const std::lock_guard<std::mutex> lock(publish_mutex_);
-    Axis& a = axes_[static_cast<std::size_t>(axis)];
-    const std::uint64_t old_index = a.state.load(std::memory_order_relaxed) >> kIndexShift;
-    // The buffer not current is free: the previous publish waited for its readers to leave.
-    const std::uint64_t next = old_index == 0 ? 1 : 0;
-    Buffer& b = a.buffers[next];
-    b.model = model;
-    b.model_id = model_id;
-    b.exits.store(0, std::memory_order_relaxed);
-    a.published_id.store(model_id, std::memory_order_relaxed);
-    const std::uint64_t old = a.state.exchange(next << kIndexShift, std::memory_order_acq_rel);
-    const std::uint64_t entered = old & kCountMask;
-    if ((old >> kIndexShift) != kNone) {
-      const Buffer& retired = a.buffers[static_cast<std::size_t>(old >> kIndexShift)];
-      while ((retired.exits.load(std::memory_order_acquire) & kCountMask) != entered) {
-        std::this_thread::yield();
-      }
-    }
-    return Status::kOk;
+    return publish_impl(axis, model, model_id, why);
+  }
+  /// The same for a model with Y as fifth input; it replaces whatever the axis had.
+  Status publish(int axis,
+                 const CompensationModelY& model,
+                 std::uint64_t model_id = 0,
+                 std::string* why = nullptr) {
+    return publish_impl(axis, model, model_id, why);
+  }
+
+  /// Inputs of the model last published for `axis`: 4, 5, or 0 when none (or bad axis).
+  /// RT-safe.
+  int model_inputs(int axis) const noexcept {
+    if (axis < 0 || axis >= kMaxAxes) return 0;
+    return axes_[static_cast<std::size_t>(axis)].published_inputs.load(std::memory_order_relaxed);
   }
 
   /// True when `axis` has a published model. Not for decisions on the RT path (it may change
@@ -134,8 +132,9 @@ class MoveCompensator {
     return axes_[static_cast<std::size_t>(axis)].published_id.load(std::memory_order_relaxed);
   }
 
-  /// Predicts the dynamic errors of `move` with the model of `move.axis` (outside the training
-  /// ranges: CompensatorOptions::outside_domain) and fills `out`: the four errors [µm],
+  /// Predicts the dynamic errors of `move` with the model of `move.axis` (a 5-input model also
+  /// reads move.y_mm; outside the training ranges: CompensatorOptions::outside_domain) and
+  /// fills `out`: the four errors [µm],
   /// correction_um = rae_um·direction, flags, model id and the sequence echo.
   /// RT-safe and wait-free: no allocation, no lock, no syscall, two atomic RMWs; never writes
   /// NaN or inf. `out` is untouched unless ok(status).
@@ -149,9 +148,16 @@ class MoveCompensator {
     const std::uint64_t index = entered >> kIndexShift;
     if (index == kNone) return Status::kNoModel;
     Buffer& b = a.buffers[static_cast<std::size_t>(index)];
-    const Model::RawInput x{move.pv_mm_s, move.pd_mm, move.av_mm_s, move.ad_mm};
     Model::RawOutput y;
-    const Status s = fuzzy::evaluate(b.model, x, y, options_.outside_domain);
+    Status s;
+    if (b.inputs == 5) {
+      const CompensationModelY::RawInput x{
+          move.pv_mm_s, move.pd_mm, move.av_mm_s, move.ad_mm, move.y_mm};
+      s = fuzzy::evaluate(b.model_y, x, y, options_.outside_domain);
+    } else {
+      const Model::RawInput x{move.pv_mm_s, move.pd_mm, move.av_mm_s, move.ad_mm};
+      s = fuzzy::evaluate(b.model, x, y, options_.outside_domain);
+    }
     const std::uint64_t model_id = b.model_id;
     b.exits.fetch_add(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
@@ -172,7 +178,9 @@ class MoveCompensator {
   static constexpr std::uint64_t kNone = 3;  ///< index value: nothing published
 
   struct Buffer {
-    Model model{};
+    int inputs = 4;                ///< which of the two models below is valid
+    Model model{};                 ///< inputs == 4
+    CompensationModelY model_y{};  ///< inputs == 5
     std::uint64_t model_id = 0;
     std::atomic<std::uint64_t> exits{0};  ///< readers that left this buffer
   };
@@ -180,7 +188,43 @@ class MoveCompensator {
     std::atomic<std::uint64_t> state{kNone << kIndexShift};
     std::array<Buffer, 2> buffers{};
     std::atomic<std::uint64_t> published_id{0};  ///< model_id of the last publish
+    std::atomic<int> published_inputs{0};        ///< inputs of the last publish (0: none)
   };
+
+  template <typename AnyModel>
+  Status publish_impl(int axis, const AnyModel& model, std::uint64_t model_id, std::string* why) {
+    if (axis < 0 || axis >= kMaxAxes) {
+      if (why != nullptr) *why = "axis out of range";
+      return Status::kInvalidInput;
+    }
+    if (!fuzzy::validate(model, why)) return Status::kInvalidInput;
+    const std::lock_guard<std::mutex> lock(publish_mutex_);
+    Axis& a = axes_[static_cast<std::size_t>(axis)];
+    const std::uint64_t old_index = a.state.load(std::memory_order_relaxed) >> kIndexShift;
+    // The buffer not current is free: the previous publish waited for its readers to leave.
+    const std::uint64_t next = old_index == 0 ? 1 : 0;
+    Buffer& b = a.buffers[next];
+    if constexpr (std::is_same_v<AnyModel, CompensationModelY>) {
+      b.model_y = model;
+      b.inputs = 5;
+    } else {
+      b.model = model;
+      b.inputs = 4;
+    }
+    b.model_id = model_id;
+    b.exits.store(0, std::memory_order_relaxed);
+    a.published_id.store(model_id, std::memory_order_relaxed);
+    a.published_inputs.store(b.inputs, std::memory_order_relaxed);
+    const std::uint64_t old = a.state.exchange(next << kIndexShift, std::memory_order_acq_rel);
+    const std::uint64_t entered = old & kCountMask;
+    if ((old >> kIndexShift) != kNone) {
+      const Buffer& retired = a.buffers[static_cast<std::size_t>(old >> kIndexShift)];
+      while ((retired.exits.load(std::memory_order_acquire) & kCountMask) != entered) {
+        std::this_thread::yield();
+      }
+    }
+    return Status::kOk;
+  }
 
   CompensatorOptions options_;
   std::unique_ptr<Axis[]> axes_;  // mutable through the pointer: readers count on atomics

@@ -48,7 +48,8 @@ struct FixedSettings {
 };
 
 /// Rows (errors zero) for a design whose factors are named PV, PD, AV, AD in SI units (as
-/// doe::paper_table3_factors()); other factors are rejected with std::invalid_argument.
+/// doe::paper_table3_factors()), optionally with Y (carriage position [m]; without it every row
+/// gets fixed.y_mm); other factors are rejected with std::invalid_argument.
 std::vector<io::DatasetRow> rows_from_design(const doe::Design& design, const FixedSettings& fixed);
 
 }  // namespace cmmcomp::dynamics

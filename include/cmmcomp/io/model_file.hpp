@@ -211,4 +211,12 @@ inline void set_paper_names(ModelFile<4, 3, 4>& file) {
   file.output_units = {"um", "um", "um", "um"};
 }
 
+/// The same with the carriage position as fifth input: y_mm [mm] (dataset CSV column y_mm).
+inline void set_paper_names(ModelFile<5, 3, 4>& file) {
+  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm", "y_mm"};
+  file.input_units = {"mm/s", "mm", "mm/s", "mm", "mm"};
+  file.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
+  file.output_units = {"um", "um", "um", "um"};
+}
+
 }  // namespace cmmcomp::io

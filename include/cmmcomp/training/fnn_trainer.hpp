@@ -167,6 +167,15 @@ struct PaperSamples {
 /// Inputs (PV, PD, AV, AD) and targets (MPE, RPE, MAE, RAE) of every row, in file units.
 PaperSamples paper_samples(const std::vector<io::DatasetRow>& rows);
 
+/// The same with the carriage position as fifth input (PV, PD, AV, AD, Y [mm]).
+struct PaperSamplesY {
+  std::vector<std::array<double, 5>> inputs;   ///< PV [mm/s], PD [mm], AV [mm/s], AD [mm], Y [mm]
+  std::vector<std::array<double, 4>> targets;  ///< MPE, RPE, MAE, RAE [µm], signed as in the file
+};
+
+/// Inputs (PV, PD, AV, AD, Y) and targets of every row, in file units.
+PaperSamplesY paper_samples_with_y(const std::vector<io::DatasetRow>& rows);
+
 /// Input names for messages: "PV", "PD", "AV", "AD".
 std::vector<std::string> paper_input_names();
 
