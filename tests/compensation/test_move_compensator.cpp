@@ -101,6 +101,36 @@ TEST(MoveCompensator, ComputesHandBuiltModel) {
   EXPECT_EQ(out.model_id, 0xabcu);
 }
 
+// A 5-input model reads the carriage position; publishing either kind replaces the other.
+TEST(MoveCompensator, FiveInputModelReadsTheCarriagePosition) {
+  MoveCompensator comp;
+  EXPECT_EQ(comp.model_inputs(0), 0);
+  ASSERT_EQ(comp.publish(0, test::linear_model_y({1.0, 2.0, 3.0, 4.0}, {0, 0, 0, 2.0}), 0x55u),
+            Status::kOk);
+  EXPECT_EQ(comp.model_inputs(0), 5);
+  EXPECT_EQ(comp.model_id(0), 0x55u);
+  Correction out;
+  MoveRequest m = move_at(42.5);
+  for (const double y : {0.0, 125.0, 500.0}) {
+    m.y_mm = y;
+    ASSERT_EQ(comp.before_approach(m, out), Status::kOk);
+    EXPECT_NEAR(out.rae_um, 4.0 + 2.0 * y / 500.0, 1e-12) << "y " << y;
+    EXPECT_NEAR(out.mpe_um, 1.0, 1e-12);
+    EXPECT_EQ(out.model_id, 0x55u);
+  }
+  m.y_mm = 900.0;  // outside [0, 500]: clamped and flagged, as any input
+  ASSERT_EQ(comp.before_approach(m, out), Status::kOutsideDomain);
+  EXPECT_NEAR(out.rae_um, 6.0, 1e-12);
+  EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain);
+
+  ASSERT_EQ(comp.publish(0, linear_model({3.0, -1.25, 4.0, 2.5}, {0, 0, 0, 0}), 0x44u),
+            Status::kOk);
+  EXPECT_EQ(comp.model_inputs(0), 4);
+  ASSERT_EQ(comp.before_approach(m, out), Status::kOk);  // Y is no input any more
+  EXPECT_NEAR(out.rae_um, 2.5, 1e-12);
+  EXPECT_EQ(out.model_id, 0x44u);
+}
+
 TEST(MoveCompensator, MatchesFuzzyEvaluateExactly) {
   std::mt19937_64 rng(test::seed());
   const Model m = random_model(rng);

@@ -1,51 +1,74 @@
 // SPDX-License-Identifier: MIT
 /// @file Run by the ctest default_model_reproducible after scripts/train-default-model.sh has
-/// retrained the default model into the file named by argv[1]: same training data, same
-/// predictions as the committed data/models/default.json (compiled in).
+/// retrained the shipped models: `check_default_model_reproducible COMMITTED RETRAINED`
+/// (either architecture): same training data, same predictions.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
-#include <cmmcomp/io/default_model.hpp>
-#include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/io/compensation_model_file.hpp>
 #include <string>
+#include <variant>
 
 namespace {
 
-std::string g_retrained;  // argv[1]
+std::string g_committed, g_retrained;  // argv[1], argv[2]
 
-// Retrained by the script (ctest fixture default_model_retrained): same predictions. Tolerance
-// 1e-6 um: the twin, the design and the training are deterministic; what may differ across
-// machines is the last bits of BLAS inside Ceres, which LM damps.
-TEST(DefaultModel, ScriptReproducesIt) {
-  using namespace cmmcomp;
-  ASSERT_FALSE(g_retrained.empty()) << "usage: check_default_model_reproducible RETRAINED.json";
-  const auto committed = io::default_model_file();
-  const auto again = io::load_model_file<4, 3, 4>(g_retrained);
-  EXPECT_EQ(committed.training.data_file_sha256, again.training.data_file_sha256)
-      << "the script's training data changed";
+/// Largest |difference| of the outputs of two models of the same architecture over a 5^n grid
+/// of the first one's ranges [µm].
+template <typename File>
+double largest_difference(const File& a, const File& b) {
+  constexpr std::size_t n = std::tuple_size_v<decltype(a.model.ranges)>;
+  int points = 1;
+  for (std::size_t i = 0; i < n; ++i) points *= 5;
   double worst = 0;
-  for (int k = 0; k < 625; ++k) {  // a 5^4 grid over the ranges
-    std::array<double, 4> x{};
+  for (int k = 0; k < points; ++k) {
+    std::array<double, n> x{};
     int code = k;
-    for (std::size_t i = 0; i < 4; ++i, code /= 5) {
-      const auto& r = committed.model.ranges[i];
+    for (std::size_t i = 0; i < n; ++i, code /= 5) {
+      const auto& r = a.model.ranges[i];
       x[i] = r.lo + (r.hi - r.lo) * (code % 5) / 4.0;
     }
-    std::array<double, 4> a{}, b{};
-    ASSERT_TRUE(ok(fuzzy::evaluate(committed.model, x, a, fuzzy::DomainPolicy::kClamp)));
-    ASSERT_TRUE(ok(fuzzy::evaluate(again.model, x, b, fuzzy::DomainPolicy::kClamp)));
-    for (std::size_t o = 0; o < 4; ++o) worst = std::max(worst, std::abs(a[o] - b[o]));
+    std::array<double, 4> ya{}, yb{};
+    EXPECT_TRUE(cmmcomp::ok(
+        cmmcomp::fuzzy::evaluate(a.model, x, ya, cmmcomp::fuzzy::DomainPolicy::kClamp)));
+    EXPECT_TRUE(cmmcomp::ok(
+        cmmcomp::fuzzy::evaluate(b.model, x, yb, cmmcomp::fuzzy::DomainPolicy::kClamp)));
+    for (std::size_t o = 0; o < 4; ++o) worst = std::max(worst, std::abs(ya[o] - yb[o]));
   }
-  EXPECT_LT(worst, 1e-6) << "largest prediction difference " << worst << " um";
+  return worst;
+}
+
+// Tolerance 1e-6 µm: the twin, the designs and the training are deterministic; what may differ
+// across machines is the last bits of BLAS inside Ceres, which LM damps.
+TEST(DefaultModel, ScriptReproducesIt) {
+  using namespace cmmcomp;
+  ASSERT_FALSE(g_retrained.empty())
+      << "usage: check_default_model_reproducible COMMITTED.json RETRAINED.json";
+  const auto committed = io::load_compensation_model(g_committed);
+  const auto again = io::load_compensation_model(g_retrained);
+  ASSERT_EQ(committed.index(), again.index()) << "the architecture changed";
+  std::visit(
+      [&](const auto& c) {
+        using File = std::decay_t<decltype(c)>;
+        const File& a = std::get<File>(again);
+        EXPECT_EQ(c.training.data_file_sha256, a.training.data_file_sha256)
+            << "the script's training data changed";
+        const double worst = largest_difference(c, a);
+        EXPECT_LT(worst, 1e-6) << "largest prediction difference " << worst << " um";
+      },
+      committed);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
-  if (argc > 1) g_retrained = argv[1];
+  if (argc > 2) {
+    g_committed = argv[1];
+    g_retrained = argv[2];
+  }
   return RUN_ALL_TESTS();
 }
