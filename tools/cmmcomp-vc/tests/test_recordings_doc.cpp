@@ -7,11 +7,11 @@
 #include <cmmcomp/plugins/can_protocol.hpp>
 #include <cmmcomp/plugins/modbus_register_map.hpp>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "line_forms.hpp"
 #include "recording_format.hpp"
 
 #ifndef CMMCOMP_RECORDINGS_DOC
@@ -37,16 +37,7 @@ std::vector<std::string> example_lines() {
   return out;
 }
 
-std::vector<std::uint8_t> bytes_of(const std::string& hex) {
-  std::vector<std::uint8_t> out;
-  std::istringstream in(hex);
-  std::string b;
-  while (in >> b) out.push_back(static_cast<std::uint8_t>(std::stoul(b, nullptr, 16)));
-  return out;
-}
-
 TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
-  const std::regex adu(R"(^[0-9]+\.[0-9]{6} (tx|rx)(( [0-9a-f]{2})+)$)");
   std::string header;
   std::vector<std::vector<std::uint8_t>> adus;
   for (const auto& l : example_lines()) {
@@ -54,8 +45,8 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
       header += l + "\n";
       continue;
     }
-    std::smatch m;
-    if (std::regex_match(l, m, adu)) adus.push_back(bytes_of(m[2].str()));
+    test::TranscriptLine t;
+    if (test::parse_transcript_line(l, t)) adus.push_back(t.bytes);
   }
   EXPECT_EQ(header, modbus_transcript_header("agent", 1));
   ASSERT_EQ(adus.size(), 2u);
@@ -86,19 +77,20 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
 }
 
 TEST(RecordingsDoc, CandumpExampleHasTheDocumentedFormAndDecodes) {
-  const std::regex frame(R"(^\(([0-9]+)\.([0-9]{6})\) (vcan0) ([0-9A-F]{3})#([0-9A-F]{16})$)");
   std::vector<plugins::can::Frame> frames;
   for (const auto& l : example_lines()) {
-    std::smatch m;
-    if (!std::regex_match(l, m, frame)) continue;
+    test::CandumpLine c;
+    if (!test::parse_candump_line(l, c)) continue;
+    ASSERT_EQ(c.interface, "vcan0");
+    ASSERT_EQ(c.data.size(), 8u);
     plugins::can::Frame f;
-    f.id = static_cast<std::uint32_t>(std::stoul(m[4].str(), nullptr, 16));
+    f.id = c.id;
     f.dlc = 8;
-    for (std::size_t i = 0; i < 8; ++i) {
-      f.data[i] = static_cast<std::uint8_t>(std::stoul(m[5].str().substr(2 * i, 2), nullptr, 16));
-    }
+    for (std::size_t i = 0; i < 8; ++i) f.data[i] = c.data[i];
     // The writer produces exactly this line back.
-    const std::int64_t us = std::stoll(m[1].str()) * 1000000 + std::stoll(m[2].str());
+    const auto dot = c.timestamp.find('.');
+    const std::int64_t us =
+        std::stoll(c.timestamp.substr(0, dot)) * 1000000 + std::stoll(c.timestamp.substr(dot + 1));
     EXPECT_EQ(candump_line(us, "vcan0", f), l + "\n");
     frames.push_back(f);
   }

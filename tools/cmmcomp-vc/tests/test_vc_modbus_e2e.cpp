@@ -11,12 +11,12 @@
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "agent/agent_process.hpp"
+#include "line_forms.hpp"
 
 #ifndef CMMCOMP_AGENT_PATH
 #error "CMMCOMP_AGENT_PATH must name the cmmcomp-agent executable"
@@ -117,19 +117,23 @@ TEST(VcModbusE2e, CompensationShrinksFastLengthErrorsAndRecordsTheSession) {
   ASSERT_GT(lines.size(), 5u);
   EXPECT_EQ(lines[0], "# cmmcomp modbus transcript 1");
   std::size_t adus = 0;
-  const std::regex tx(
-      R"(^[0-9]+\.[0-9]{6} tx ([0-9a-f]{2}) ([0-9a-f]{2}) 00 00 00 3d 01 17( [0-9a-f]{2}){59}$)");
-  const std::regex rx(
-      R"(^[0-9]+\.[0-9]{6} rx ([0-9a-f]{2}) ([0-9a-f]{2}) 00 00 00 31 01 17 2e( [0-9a-f]{2}){46}$)");
-  std::smatch m_tx;
+  std::vector<std::uint8_t> request;
   for (const auto& l : lines) {
     if (l[0] == '#') continue;
-    std::smatch m;
+    vc::test::TranscriptLine t;
+    ASSERT_TRUE(vc::test::parse_transcript_line(l, t)) << l;
+    ASSERT_GE(t.bytes.size(), 9u) << l;
+    EXPECT_EQ(t.bytes.size(), 6u + ((std::size_t{t.bytes[4]} << 8) | t.bytes[5])) << l;
+    EXPECT_EQ(t.bytes[6], 1u) << "unit id";
+    EXPECT_EQ(t.bytes[7], 0x17u) << "FC23";
     if (adus % 2 == 0) {
-      ASSERT_TRUE(std::regex_match(l, m_tx, tx)) << l;
+      EXPECT_EQ(t.direction, "tx") << l;
+      EXPECT_EQ(t.bytes.size(), 67u) << l;  // MBAP 7 + FC23 with 25 registers written
+      request = t.bytes;
     } else {
-      ASSERT_TRUE(std::regex_match(l, m, rx)) << l;
-      EXPECT_EQ(m[1].str() + m[2].str(), m_tx[1].str() + m_tx[2].str()) << "transaction id";
+      EXPECT_EQ(t.direction, "rx") << l;
+      EXPECT_EQ(t.bytes.size(), 55u) << l;  // MBAP 7 + 23 registers read
+      EXPECT_TRUE(t.bytes[0] == request[0] && t.bytes[1] == request[1]) << "transaction id";
     }
     ++adus;
   }
