@@ -154,7 +154,12 @@ int main(int argc, char** argv) {
   app.add_option("--timeout-ms", opt.timeout_ms, "answer timeout per request")
       ->capture_default_str()
       ->check(CLI::Range(1, 60'000));
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version are "errors" with status 0; every real usage error is status 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   try {
     return run(opt);
   } catch (const cmmcomp::vc::UnreachableError& e) {

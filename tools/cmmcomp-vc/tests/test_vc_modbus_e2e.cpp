@@ -187,6 +187,9 @@ TEST(VcModbusE2e, UnreachableAgentIsExitStatusTwo) {
 TEST(VcModbusE2e, BadOptionsAreExitStatusTwo) {
   EXPECT_EQ(run_vc({"--modbus", "udp:1.2.3.4:5"}).status, 2);
   EXPECT_EQ(run_vc({"--lengths", "20"}).status, 2);  // no agent
+  EXPECT_EQ(run_vc({"--nonsense"}).status, 2);
+  EXPECT_EQ(run_vc({"--modbus", "tcp:127.0.0.1:1", "--timeout-ms", "0"}).status, 2);
+  EXPECT_EQ(run_vc({"--help"}).status, 0);
   EXPECT_EQ(run_vc({"--modbus", "tcp:127.0.0.1:1", "--fast", "pv=-3"}).status, 2);
 }
 
