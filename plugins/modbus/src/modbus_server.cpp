@@ -15,6 +15,8 @@
 #include <cstring>
 #include <vector>
 
+#include "modbus_frame.hpp"
+
 namespace cmmcomp::plugins {
 
 namespace {
@@ -198,8 +200,6 @@ struct ModbusServer::Impl {
     const auto us = static_cast<std::uint32_t>(options.byte_timeout_ms) * 1000u;
     modbus_set_byte_timeout(ctx, us / 1000000u, us % 1000000u);
     modbus_set_indication_timeout(ctx, us / 1000000u, us % 1000000u);
-    header_length = modbus_get_header_length(ctx);
-    checksum_length = tcp() ? 0 : 2;
     fds.reserve(static_cast<std::size_t>(options.max_tcp_clients) + 1);
   }
 
@@ -271,32 +271,18 @@ struct ModbusServer::Impl {
 
   /// Receives one frame on `fd` and answers it; false when the connection is unusable.
   bool serve_frame(int fd) {
-    modbus_set_socket(ctx, fd);
-    const int length = modbus_receive(ctx, query.data());
-    if (length == 0) return true;  // RTU: another unit's frame, ignored
-    if (length < 0) {
-      handler.note_receive_error();  // truncated, timed out mid-frame, bad CRC or peer gone
-      if (!tcp()) modbus_flush(ctx);
-      return !tcp();
-    }
-    const int pdu_length = length - header_length - checksum_length;
-    const ModbusDecision d =
-        handler.handle(query[static_cast<std::size_t>(header_length - 1)],
-                       query.data() + header_length,
-                       pdu_length > 0 ? static_cast<std::size_t>(pdu_length) : 0);
-    int sent = 0;
-    switch (d.kind) {
-      case ModbusDecision::Kind::kReply:
-        sent = modbus_reply(ctx, query.data(), length, &mapping);
-        if (sent < 0) handler.note_reply_failed();
-        break;
-      case ModbusDecision::Kind::kException:
-        sent = modbus_reply_exception(ctx, query.data(), d.exception);
-        break;
-      case ModbusDecision::Kind::kSilent:
+    switch (detail::serve_one_frame(ctx, fd, handler, mapping, query.data())) {
+      case detail::FrameOutcome::kReceiveError:
+        if (!tcp()) modbus_flush(ctx);
+        return !tcp();
+      case detail::FrameOutcome::kSendError:
+        return !tcp();
+      case detail::FrameOutcome::kAnswered:
+      case detail::FrameOutcome::kSilent:
+      case detail::FrameOutcome::kIgnored:
         break;
     }
-    return sent >= 0 || !tcp();
+    return true;
   }
 
   ModbusEndpoint endpoint;
@@ -306,8 +292,6 @@ struct ModbusServer::Impl {
   modbus_t* ctx = nullptr;
   int listen_fd = -1;
   int serial_fd = -1;
-  int header_length = 0;
-  int checksum_length = 0;
   std::vector<int> clients;
   std::vector<pollfd> fds;
   std::array<std::uint8_t, MODBUS_MAX_ADU_LENGTH> query{};

@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+/// @file A decoded field of a wire message, for reports: which bytes, what name, what value.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace cmmcomp::replay {
+
+/// One field of a message, decoded.
+struct FieldValue {
+  std::string name;       ///< e.g. "RAE", "model id", "transaction id"
+  std::size_t begin = 0;  ///< first byte (Modbus: in the ADU; CAN: in the data)
+  std::size_t end = 0;    ///< one past the last byte
+  std::string value;      ///< e.g. "-5.298 µm", "c2fc35069149ab07"
+  std::string precise;    ///< the value with every digit, shown when `value`s are equal
+};
+
+/// The field that covers byte `offset`, or nullptr.
+inline const FieldValue* field_at(const std::vector<FieldValue>& fields, std::size_t offset) {
+  for (const FieldValue& f : fields) {
+    if (offset >= f.begin && offset < f.end) return &f;
+  }
+  return nullptr;
+}
+
+}  // namespace cmmcomp::replay

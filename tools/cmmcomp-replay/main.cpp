@@ -1,0 +1,200 @@
+// SPDX-License-Identifier: MIT
+/// @file cmmcomp-replay: replays a recorded controller session (docs/recordings.md) through the
+/// plugins' own request handlers with a given model — or against a live cmmcomp-agent — and
+/// checks every answer byte for byte against the recording.
+#include <CLI/CLI.hpp>
+#include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/error.hpp>
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "can_session.hpp"
+#include "modbus_session.hpp"
+#include "model_slots.hpp"
+#include "recording.hpp"
+#include "replay.hpp"
+
+namespace {
+
+namespace replay = cmmcomp::replay;
+
+struct Options {
+  std::string session;
+  std::vector<std::string> models;
+  bool json = false;
+  bool quiet = false;
+  std::size_t max_mismatches = 1;
+  std::string live;
+  std::string outside_domain = "clamp";
+  int modbus_unit = 1;
+  std::string can_base_id = "0x300";
+  int can_part_timeout_ms = 50;
+};
+
+cmmcomp::fuzzy::DomainPolicy parse_policy(const std::string& s) {
+  if (s == "extrapolate") return cmmcomp::fuzzy::DomainPolicy::kExtrapolate;
+  if (s == "reject") return cmmcomp::fuzzy::DomainPolicy::kReject;
+  return cmmcomp::fuzzy::DomainPolicy::kClamp;
+}
+
+std::uint32_t parse_base_id(const std::string& text) {
+  std::size_t used = 0;
+  unsigned long v = 0;
+  try {
+    v = std::stoul(text, &used, 0);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (text.empty() || used != text.size() || v > 0x7FF) {
+    throw cmmcomp::ConfigError("--can-base-id '" + text +
+                               "': not an 11-bit identifier (e.g. 0x300)");
+  }
+  return static_cast<std::uint32_t>(v);
+}
+
+/// Loads the models as cmmcomp-agent does; false (with the reasons on stderr) when one fails.
+bool load_models(const Options& opt, cmmcomp::compensation::MoveCompensator& compensator) {
+  std::vector<cmmcomp::agent::ModelSlot> slots;
+  for (const std::string& m : opt.models) slots.push_back(cmmcomp::agent::parse_model_argument(m));
+  if (slots.empty()) slots.push_back(cmmcomp::agent::ModelSlot{0, ""});
+  bool all = true;
+  for (const cmmcomp::agent::SlotOutcome& o : cmmcomp::agent::load_slots(slots, compensator)) {
+    if (!o.loaded) {
+      std::fprintf(stderr,
+                   "cmmcomp-replay: axis %d: cannot load %s: %s\n",
+                   o.axis,
+                   o.source.c_str(),
+                   o.error.c_str());
+      all = false;
+    } else if (!opt.json) {
+      std::printf("axis %d: model %s (%d inputs) from %s\n",
+                  o.axis,
+                  o.model_id.c_str(),
+                  o.inputs,
+                  o.source.c_str());
+    }
+  }
+  return all;
+}
+
+int run(const Options& opt) {
+  replay::Recording recording;
+  try {
+    recording = replay::load_recording(opt.session);
+  } catch (const replay::RecordingError& e) {
+    std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
+    return 2;
+  }
+  const std::uint32_t base_id = parse_base_id(opt.can_base_id);
+  const bool modbus = recording.format == replay::RecordingFormat::kModbusTranscript;
+
+  cmmcomp::compensation::CompensatorOptions copt;
+  copt.outside_domain = parse_policy(opt.outside_domain);
+  cmmcomp::compensation::MoveCompensator compensator(copt);
+  std::unique_ptr<replay::Session> session;
+  if (opt.live.empty()) {
+    if (!load_models(opt, compensator)) return 2;
+    session =
+        modbus
+            ? replay::make_modbus_session(compensator, static_cast<std::uint8_t>(opt.modbus_unit))
+            : replay::make_can_session(
+                  compensator, base_id, std::chrono::milliseconds(opt.can_part_timeout_ms));
+  } else if (opt.live.rfind("modbus:", 0) == 0 && modbus) {
+    session = replay::make_modbus_live_session(opt.live.substr(7));
+  } else if (opt.live.rfind("can:", 0) == 0 && !modbus) {
+    session = replay::make_can_live_session(opt.live.substr(4), base_id);
+  } else {
+    std::fprintf(stderr,
+                 "cmmcomp-replay: --live '%s' does not fit a %s (Modbus transcript: "
+                 "modbus:tcp:HOST:PORT; candump log: can:IFACE)\n",
+                 opt.live.c_str(),
+                 replay::to_string(recording.format));
+    return 2;
+  }
+
+  replay::ReplayOptions ropt;
+  ropt.max_mismatches = opt.max_mismatches;
+  ropt.verbose = !opt.quiet && !opt.json;
+  if (!opt.json) {
+    std::printf("replaying %s (%s, %zu messages) %s\n",
+                recording.source.c_str(),
+                replay::to_string(recording.format),
+                recording.messages.size(),
+                session->target().c_str());
+  }
+  const replay::ReplayResult r = replay::run_replay(recording, *session, ropt, &std::cout);
+  if (opt.json) {
+    std::printf("%s\n", replay::result_json(r).c_str());
+  } else {
+    for (const replay::Mismatch& m : r.mismatches) {
+      std::printf("%s", replay::format_mismatch(r.source, m).c_str());
+    }
+    std::printf(
+        "%s: %zu request messages, %zu recorded answers, %zu matched%s; skipped %zu "
+        "heartbeats, %zu other\n",
+        r.source.c_str(),
+        r.requests,
+        r.answers,
+        r.matched,
+        r.mismatches.empty() ? " (every answer byte for byte)"
+                             : (", " + std::to_string(r.mismatches.size()) + " MISMATCHED" +
+                                (r.stopped_early ? " (stopped)" : ""))
+                                   .c_str(),
+        r.heartbeats,
+        r.other);
+  }
+  std::fflush(stdout);
+  return r.mismatches.empty() ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "cmmcomp-replay: replays a recorded controller session (a Modbus transcript or a candump "
+      "-l log, docs/recordings.md) through cmmcomp-agent's own request handlers with the given "
+      "model, or against a live agent (--live), and checks every answer byte for byte.\n"
+      "Exit status: 0 every answer matches, 1 a mismatch, 2 unreadable input or bad options."};
+  Options opt;
+  app.add_option("SESSION", opt.session, "the recording")->required();
+  app.add_option("--model",
+                 opt.models,
+                 "model file, [AXIS=]PATH as for cmmcomp-agent (default: the shipped model)");
+  app.add_flag("--json", opt.json, "print the result as JSON");
+  app.add_flag("--quiet", opt.quiet, "no line per request, only mismatches and the summary");
+  app.add_option("--max-mismatches",
+                 opt.max_mismatches,
+                 "stop after this many mismatching requests, 0 = report all")
+      ->capture_default_str();
+  app.add_option("--live",
+                 opt.live,
+                 "replay against a running agent instead: modbus:tcp:HOST:PORT or can:IFACE");
+  app.add_option("--outside-domain",
+                 opt.outside_domain,
+                 "as the agent that was recorded: clamp, extrapolate or reject")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"clamp", "extrapolate", "reject"}));
+  app.add_option("--modbus-unit", opt.modbus_unit, "the agent's Modbus unit id")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 247));
+  app.add_option("--can-base-id", opt.can_base_id, "the agent's 11-bit base identifier")
+      ->capture_default_str();
+  app.add_option("--can-part-timeout-ms",
+                 opt.can_part_timeout_ms,
+                 "the agent's longest gap between the frames of one request")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 60'000));
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return run(opt);
+  } catch (const cmmcomp::ConfigError& e) {
+    std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,315 @@
+// SPDX-License-Identifier: MIT
+/// @file Field-by-field decoding of Modbus TCP ADUs (docs/protocol-modbus.md register map).
+#include "modbus_decode.hpp"
+
+#include <cmmcomp/plugins/modbus_register_map.hpp>
+#include <cmmcomp/status.hpp>
+#include <cstring>
+
+#include "value_format.hpp"
+
+namespace cmmcomp::replay {
+
+namespace {
+
+namespace map = plugins::modbus_map;
+
+enum class Type { kU16, kI16, kF32, kU32, kU64 };
+
+/// One register field: first register, type, name, unit.
+struct RegisterField {
+  std::uint16_t reg;
+  Type type;
+  const char* name;
+  const char* unit;
+};
+
+constexpr RegisterField kRequestFields[] = {
+    {map::kAxis, Type::kU16, "axis", ""},
+    {map::kReserved, Type::kU16, "reserved", ""},
+    {map::kDirectionX, Type::kF32, "direction x", ""},
+    {map::kDirectionY, Type::kF32, "direction y", ""},
+    {map::kDirectionZ, Type::kF32, "direction z", ""},
+    {map::kPv, Type::kF32, "PV", " mm/s"},
+    {map::kPa, Type::kF32, "PA", " mm/s²"},
+    {map::kPd, Type::kF32, "PD", " mm"},
+    {map::kAv, Type::kF32, "AV", " mm/s"},
+    {map::kAa, Type::kF32, "AA", " mm/s²"},
+    {map::kAd, Type::kF32, "AD", " mm"},
+    {map::kY, Type::kF32, "Y", " mm"},
+    {map::kZ, Type::kF32, "Z", " mm"},
+    {map::kSequence, Type::kU16, "sequence", ""},
+};
+
+constexpr RegisterField kInputFields[] = {
+    {map::kProtocolVersionReg, Type::kU16, "protocol version", ""},
+    {map::kResultSequence, Type::kU16, "sequence", ""},
+    {map::kResultStatus, Type::kI16, "status", ""},
+    {map::kResultFlags, Type::kU16, "flags", ""},
+    {map::kResultAxis, Type::kU16, "axis", ""},
+    {map::kResultReserved, Type::kU16, "reserved", ""},
+    {map::kMpe, Type::kF32, "MPE", " µm"},
+    {map::kRpe, Type::kF32, "RPE", " µm"},
+    {map::kMae, Type::kF32, "MAE", " µm"},
+    {map::kRae, Type::kF32, "RAE", " µm"},
+    {map::kCorrectionX, Type::kF32, "correction x", " µm"},
+    {map::kCorrectionY, Type::kF32, "correction y", " µm"},
+    {map::kCorrectionZ, Type::kF32, "correction z", " µm"},
+    {map::kResultModelId, Type::kU64, "model id", ""},
+    {map::kRequests, Type::kU32, "requests counter", ""},
+    {map::kAnswered, Type::kU32, "answered counter", ""},
+    {map::kRejected, Type::kU32, "rejected counter", ""},
+    {map::kExceptions, Type::kU32, "exceptions counter", ""},
+    {map::kComputations, Type::kU32, "computations counter", ""},
+    {map::kClientsConnected, Type::kU32, "clients counter", ""},
+    {map::kModelIdAxis0, Type::kU64, "model id axis 0", ""},
+    {map::kModelIdAxis0 + 4, Type::kU64, "model id axis 1", ""},
+    {map::kModelIdAxis0 + 8, Type::kU64, "model id axis 2", ""},
+    {map::kModelIdAxis0 + 12, Type::kU64, "model id axis 3", ""},
+};
+
+int words(Type t) {
+  switch (t) {
+    case Type::kU16:
+    case Type::kI16:
+      return 1;
+    case Type::kF32:
+    case Type::kU32:
+      return 2;
+    case Type::kU64:
+      return 4;
+  }
+  return 1;
+}
+
+std::uint64_t be(const std::vector<std::uint8_t>& b, std::size_t at, std::size_t n) {
+  std::uint64_t v = 0;
+  for (std::size_t i = 0; i < n; ++i) v = (v << 8) | b[at + i];
+  return v;
+}
+
+const char* exception_name(std::uint8_t code) {
+  switch (code) {
+    case 0x01:
+      return "illegal function";
+    case 0x02:
+      return "illegal data address";
+    case 0x03:
+      return "illegal data value";
+    case 0x0B:
+      return "gateway target failed";
+    default:
+      return "unknown exception";
+  }
+}
+
+void add(std::vector<FieldValue>& out,
+         const std::string& name,
+         std::size_t begin,
+         std::size_t size,
+         const std::string& value,
+         const std::string& precise = "") {
+  out.push_back(FieldValue{name, begin, begin + size, value, precise.empty() ? value : precise});
+}
+
+/// Decodes a field of `t` at byte `at` and appends it.
+void add_typed(std::vector<FieldValue>& out,
+               const std::vector<std::uint8_t>& b,
+               std::size_t at,
+               const RegisterField& f) {
+  const auto size = static_cast<std::size_t>(2 * words(f.type));
+  const std::uint64_t raw = be(b, at, size);
+  switch (f.type) {
+    case Type::kU16:
+    case Type::kU32:
+      add(out, f.name, at, size, std::to_string(raw));
+      return;
+    case Type::kI16: {
+      const auto v = static_cast<std::int16_t>(static_cast<std::uint16_t>(raw));
+      std::string text = std::to_string(v);
+      if (std::string(f.name) == "status") {
+        text += std::string(" (") + to_string(static_cast<Status>(v)) + ")";
+      }
+      add(out, f.name, at, size, text);
+      return;
+    }
+    case Type::kF32: {
+      const auto bits = static_cast<std::uint32_t>(raw);
+      float v = 0;
+      std::memcpy(&v, &bits, sizeof v);
+      add(out,
+          f.name,
+          at,
+          size,
+          format_number(v, 4) + f.unit,
+          format_number(v, 9) + f.unit + " (" + format_hex(bits, 8) + ")");
+      return;
+    }
+    case Type::kU64:
+      add(out, f.name, at, size, format_hex(raw, 16));
+      return;
+  }
+}
+
+/// Appends the registers `first` .. `first + count` - 1 stored from byte `at` of `b`, by name.
+/// `holding`: the holding-register space (request block, then the result copy).
+void add_registers(std::vector<FieldValue>& out,
+                   const std::vector<std::uint8_t>& b,
+                   std::size_t at,
+                   std::uint32_t first,
+                   std::uint32_t count,
+                   bool holding) {
+  const std::uint32_t end = first + count;
+  std::uint32_t r = first;
+  while (r < end && at + 2 <= b.size()) {
+    // Holding registers 25 .. 47 are a copy of input registers 1 .. 23 (the result block).
+    const bool request_space = holding && r < map::kRequestCount;
+    const std::uint32_t input_reg = holding ? r - map::kResultCopy + map::kResultSequence : r;
+    const RegisterField* match = nullptr;
+    if (request_space) {
+      for (const RegisterField& f : kRequestFields) {
+        if (f.reg == r) match = &f;
+      }
+    } else {
+      for (const RegisterField& f : kInputFields) {
+        if (f.reg == input_reg) match = &f;
+      }
+    }
+    const auto n = match == nullptr ? 1u : static_cast<std::uint32_t>(words(match->type));
+    if (match != nullptr && r + n <= end && at + 2 * n <= b.size()) {
+      add_typed(out, b, at, *match);
+    } else {  // outside the map, or a field only partly read
+      add(out,
+          std::string(holding ? "holding" : "input") + " register " + std::to_string(r),
+          at,
+          2,
+          std::to_string(be(b, at, 2)));
+      r += 1;
+      at += 2;
+      continue;
+    }
+    r += n;
+    at += 2 * n;
+  }
+}
+
+void add_mbap(std::vector<FieldValue>& out, const std::vector<std::uint8_t>& b) {
+  if (b.size() < 8) return;
+  add(out, "transaction id", 0, 2, std::to_string(be(b, 0, 2)));
+  add(out, "protocol id", 2, 2, std::to_string(be(b, 2, 2)));
+  add(out, "MBAP length", 4, 2, std::to_string(be(b, 4, 2)));
+  add(out, "unit id", 6, 1, std::to_string(b[6]));
+  add(out, "function code", 7, 1, "0x" + format_hex(b[7], 2));
+}
+
+const FieldValue* find(const std::vector<FieldValue>& fields, const std::string& name) {
+  for (const FieldValue& f : fields) {
+    if (f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+/// "v" without its unit ("-5.298" of "-5.298 µm").
+std::string number_of(const FieldValue* f) {
+  if (f == nullptr) return "?";
+  return f->value.substr(0, f->value.find(' '));
+}
+
+}  // namespace
+
+std::vector<FieldValue> decode_modbus_request(const std::vector<std::uint8_t>& b) {
+  std::vector<FieldValue> out;
+  add_mbap(out, b);
+  if (b.size() < 8) return out;
+  const std::uint8_t fc = b[7];
+  if ((fc == 0x03 || fc == 0x04) && b.size() >= 12) {
+    add(out, "read address", 8, 2, std::to_string(be(b, 8, 2)));
+    add(out, "read count", 10, 2, std::to_string(be(b, 10, 2)));
+  } else if (fc == 0x06 && b.size() >= 12) {
+    add(out, "address", 8, 2, std::to_string(be(b, 8, 2)));
+    add_registers(out, b, 10, static_cast<std::uint32_t>(be(b, 8, 2)), 1, true);
+  } else if (fc == 0x10 && b.size() >= 13) {
+    add(out, "write address", 8, 2, std::to_string(be(b, 8, 2)));
+    add(out, "write count", 10, 2, std::to_string(be(b, 10, 2)));
+    add(out, "byte count", 12, 1, std::to_string(b[12]));
+    add_registers(out,
+                  b,
+                  13,
+                  static_cast<std::uint32_t>(be(b, 8, 2)),
+                  static_cast<std::uint32_t>(be(b, 10, 2)),
+                  true);
+  } else if (fc == 0x17 && b.size() >= 17) {
+    add(out, "read address", 8, 2, std::to_string(be(b, 8, 2)));
+    add(out, "read count", 10, 2, std::to_string(be(b, 10, 2)));
+    add(out, "write address", 12, 2, std::to_string(be(b, 12, 2)));
+    add(out, "write count", 14, 2, std::to_string(be(b, 14, 2)));
+    add(out, "byte count", 16, 1, std::to_string(b[16]));
+    add_registers(out,
+                  b,
+                  17,
+                  static_cast<std::uint32_t>(be(b, 12, 2)),
+                  static_cast<std::uint32_t>(be(b, 14, 2)),
+                  true);
+  }
+  return out;
+}
+
+std::vector<FieldValue> decode_modbus_answer(const std::vector<std::uint8_t>& request,
+                                             const std::vector<std::uint8_t>& b) {
+  std::vector<FieldValue> out;
+  add_mbap(out, b);
+  if (b.size() < 9) return out;
+  const std::uint8_t fc = b[7];
+  if ((fc & 0x80) != 0) {
+    add(out, "exception code", 8, 1, format_hex(b[8], 2) + " (" + exception_name(b[8]) + ")");
+    return out;
+  }
+  const bool reads = fc == 0x03 || fc == 0x04 || fc == 0x17;
+  if (reads) {
+    add(out, "byte count", 8, 1, std::to_string(b[8]));
+    // Where the read starts is in the request (FC03/04/23: bytes 8-9 of the ADU).
+    const std::uint32_t first =
+        request.size() >= 10 ? static_cast<std::uint32_t>(be(request, 8, 2)) : 0;
+    add_registers(out, b, 9, first, b[8] / 2u, fc != 0x04);
+  } else if ((fc == 0x06 || fc == 0x10) && b.size() >= 12) {
+    add(out, "address", 8, 2, std::to_string(be(b, 8, 2)));
+    add(out, fc == 0x06 ? "value" : "count", 10, 2, std::to_string(be(b, 10, 2)));
+  }
+  return out;
+}
+
+std::string summarize_modbus_request(const std::vector<std::uint8_t>& adu) {
+  const std::vector<FieldValue> f = decode_modbus_request(adu);
+  if (adu.size() < 8) return "short ADU";
+  std::string s = "FC" + format_hex(adu[7], 2);
+  const FieldValue* seq = find(f, "sequence");
+  if (seq != nullptr) s += " seq " + seq->value;
+  if (find(f, "PV") != nullptr) {
+    s += " axis " + number_of(find(f, "axis")) + " dir (" + number_of(find(f, "direction x")) +
+         ", " + number_of(find(f, "direction y")) + ", " + number_of(find(f, "direction z")) +
+         ") PV " + number_of(find(f, "PV")) + " PD " + number_of(find(f, "PD")) + " AV " +
+         number_of(find(f, "AV")) + " AD " + number_of(find(f, "AD")) + " Y " +
+         number_of(find(f, "Y"));
+  } else if (const FieldValue* ra = find(f, "read address")) {
+    s += " read " + ra->value + "+" + number_of(find(f, "read count"));
+  }
+  return s;
+}
+
+std::string summarize_modbus_answer(const std::vector<std::uint8_t>& request,
+                                    const std::vector<std::uint8_t>& adu) {
+  const std::vector<FieldValue> f = decode_modbus_answer(request, adu);
+  if (const FieldValue* e = find(f, "exception code")) return "exception " + e->value;
+  std::string s;
+  if (const FieldValue* st = find(f, "status")) s += "status " + st->value;
+  if (const FieldValue* rae = find(f, "RAE")) s += (s.empty() ? "" : " ") + ("RAE " + rae->value);
+  if (find(f, "correction x") != nullptr) {
+    s += " corr (" + number_of(find(f, "correction x")) + ", " +
+         number_of(find(f, "correction y")) + ", " + number_of(find(f, "correction z")) + ") µm";
+  }
+  if (const FieldValue* id = find(f, "model id")) s += " model " + id->value;
+  if (s.empty()) s = "FC" + (adu.size() > 7 ? format_hex(adu[7], 2) : std::string("?")) + " ok";
+  return s;
+}
+
+}  // namespace cmmcomp::replay
