@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmmcomp/plugins/can_protocol.hpp>
+#include <cstdio>
 #include <cstring>
 
 #include "recording_format.hpp"

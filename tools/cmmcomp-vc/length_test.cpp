@@ -2,6 +2,7 @@
 /// @file The probing program and the evaluation of the length test.
 #include "length_test.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cmmcomp/error.hpp>
 

@@ -15,6 +15,11 @@ namespace cmmcomp::vc {
 
 namespace map = plugins::modbus_map;
 
+struct ModbusLink::Impl {
+  std::unique_ptr<ModbusRecordingRelay> relay;
+  modbus_t* ctx = nullptr;
+};
+
 void parse_tcp_endpoint(const std::string& text, std::string& host, int& port) {
   const std::string bad = "Modbus endpoint '" + text + "': expected tcp:HOST:PORT";
   if (text.rfind("tcp:", 0) != 0) throw ConfigError(bad);
@@ -42,36 +47,37 @@ ModbusLink::ModbusLink(std::string label,
                        int unit_id,
                        int timeout_ms,
                        const std::string& record_path)
-    : label_(std::move(label)), where_("modbus " + endpoint) {
+    : label_(std::move(label)), where_("modbus " + endpoint), impl_(std::make_unique<Impl>()) {
   std::string host;
   int port = 0;
   parse_tcp_endpoint(endpoint, host, port);
   if (unit_id < 1 || unit_id > 255) throw ConfigError("--modbus-unit must be 1 … 255");
   if (!record_path.empty()) {
-    relay_ = std::make_unique<ModbusRecordingRelay>(
+    impl_->relay = std::make_unique<ModbusRecordingRelay>(
         host, port, record_path, modbus_transcript_header(label_, unit_id));
-    ctx_ = modbus_new_tcp("127.0.0.1", relay_->port());
+    impl_->ctx = modbus_new_tcp("127.0.0.1", impl_->relay->port());
   } else {
-    ctx_ = modbus_new_tcp_pi(host.c_str(), std::to_string(port).c_str());
+    impl_->ctx = modbus_new_tcp_pi(host.c_str(), std::to_string(port).c_str());
   }
-  if (ctx_ == nullptr) throw Error("libmodbus: cannot create a TCP context for " + endpoint);
-  modbus_set_slave(ctx_, unit_id);
+  modbus_t* ctx = impl_->ctx;
+  if (ctx == nullptr) throw Error("libmodbus: cannot create a TCP context for " + endpoint);
+  modbus_set_slave(ctx, unit_id);
   const auto ms = static_cast<std::uint32_t>(timeout_ms);
-  modbus_set_response_timeout(ctx_, ms / 1000, (ms % 1000) * 1000);
-  if (modbus_connect(ctx_) != 0) {
+  modbus_set_response_timeout(ctx, ms / 1000, (ms % 1000) * 1000);
+  if (modbus_connect(ctx) != 0) {
     const std::string why = modbus_strerror(errno);
-    modbus_free(ctx_);
-    ctx_ = nullptr;
+    modbus_free(ctx);
+    impl_->ctx = nullptr;
     throw UnreachableError("agent '" + label_ + "' at " + endpoint + " unreachable: " + why);
   }
 }
 
 ModbusLink::~ModbusLink() {
-  if (ctx_ != nullptr) {
-    modbus_close(ctx_);
-    modbus_free(ctx_);
+  if (impl_->ctx != nullptr) {
+    modbus_close(impl_->ctx);
+    modbus_free(impl_->ctx);
   }
-  relay_.reset();  // after the client closed: the relay sees the end of the session
+  impl_->relay.reset();  // after the client closed: the relay sees the end of the session
 }
 
 Answer ModbusLink::ask(const compensation::MoveRequest& move) {
@@ -80,8 +86,13 @@ Answer ModbusLink::ask(const compensation::MoveRequest& move) {
   map::HoldingRegisters h{};
   map::encode_request(m, h);
   std::array<std::uint16_t, map::kResultWords> copy{};
-  const int got = modbus_write_and_read_registers(
-      ctx_, 0, map::kRequestCount, h.data(), map::kResultCopy, map::kResultWords, copy.data());
+  const int got = modbus_write_and_read_registers(impl_->ctx,
+                                                  0,
+                                                  map::kRequestCount,
+                                                  h.data(),
+                                                  map::kResultCopy,
+                                                  map::kResultWords,
+                                                  copy.data());
   Answer a;
   if (got != map::kResultWords) {
     const int e = errno;

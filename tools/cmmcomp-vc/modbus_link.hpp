@@ -8,11 +8,7 @@
 
 #include "correction_source.hpp"
 
-struct _modbus;  // libmodbus's context (modbus_t); its header stays in the .cpp
-
 namespace cmmcomp::vc {
-
-class ModbusRecordingRelay;
 
 /// "tcp:HOST:PORT" (HOST may be [v6]) split into host and port. Throws ConfigError.
 void parse_tcp_endpoint(const std::string& text, std::string& host, int& port);
@@ -38,10 +34,10 @@ class ModbusLink final : public CorrectionSource {
   const std::string& where() const noexcept override { return where_; }
 
  private:
+  struct Impl;  // the libmodbus context and the relay: libmodbus's header stays in the .cpp
   std::string label_;
   std::string where_;
-  std::unique_ptr<ModbusRecordingRelay> relay_;
-  _modbus* ctx_ = nullptr;
+  std::unique_ptr<Impl> impl_;
   std::uint16_t sequence_ = 0;
 };
 
