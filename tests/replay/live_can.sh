@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# live_can.sh AGENT REPLAY DATA_DIR WORKDIR — the hil replay over CAN; run inside the UML guest
+# (scripts/uml-run.sh). For every can-*.log in DATA_DIR (model: data/models/NAME.json beside
+# DATA_DIR's repository, NAME = the file name without "can-"), starts cmmcomp-agent on vcan0
+# and replays the recording against it twice: with cmmcomp-replay --live can:vcan0 (own raw
+# socket, field-by-field report), and with can-utils (canplayer sends the request frames,
+# candump -L captures the answers, compared with the recorded answers frame for frame).
+set -euo pipefail
+agent="$1"; replay="$2"; data="$3"; work="$4"
+root="$(cd "$data/../../.." && pwd)"
+mkdir -p "$work"
+pid=""; dump=""
+cleanup() {
+  for p in $pid $dump; do kill "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
+}
+trap cleanup EXIT
+count=0
+for recording in "$data"/can-*.log; do
+  name="$(basename "$recording" .log)"; name="${name#can-}"
+  model="$root/data/models/$name.json"
+  "$agent" --can vcan0 --can-heartbeat-ms 100 --model "$model" >"$work/agent-$name.log" 2>&1 &
+  pid=$!
+  for _ in $(seq 100); do grep -q "listening on" "$work/agent-$name.log" && break; sleep 0.05; done
+  grep -q "listening on" "$work/agent-$name.log" || { cat "$work/agent-$name.log"; exit 1; }
+
+  # 1. cmmcomp-replay's own raw socket (heartbeats are filtered out by its socket).
+  "$replay" "$recording" --live can:vcan0 --quiet
+
+  # 2. can-utils: the request frames only, replayed with their recorded timing.
+  grep ' 300#' "$recording" >"$work/requests-$name.log"
+  grep -E ' 30[12]#' "$recording" | cut -d' ' -f2- >"$work/expected-$name.txt"
+  answers=$(wc -l <"$work/expected-$name.txt")
+  candump -L -n "$answers" -T 3000 vcan0,301:7FF,302:7FF >"$work/captured-$name.log" &
+  dump=$!
+  sleep 0.2
+  canplayer -I "$work/requests-$name.log"
+  wait "$dump" || true; dump=""
+  cut -d' ' -f2- "$work/captured-$name.log" >"$work/actual-$name.txt"
+  if ! diff "$work/expected-$name.txt" "$work/actual-$name.txt"; then
+    echo "live_can: canplayer replay of $recording: the answers differ (above: < recorded, > live)"
+    exit 1
+  fi
+  echo "live_can: canplayer replay of $recording: $answers answer frames identical"
+  kill "$pid"; wait "$pid" 2>/dev/null || true; pid=""
+  count=$((count + 1))
+done
+[ "$count" -gt 0 ] || { echo "live_can: no can-*.log in $data"; exit 1; }
+echo "live_can: $count recordings replayed live on vcan0"
