@@ -20,7 +20,7 @@ for exe in "$agent" "$vc"; do
 done
 mkdir -p "$data"
 # The program of every recording: 3 lengths × 2 Y × 2 faces = 12 requests (24 transcript lines,
-# 72 CAN frames). Keep in sync with tests/replay/README.md.
+# 72 CAN frames). Keep in sync with tests/replay/README.md. The guest gets them in VC_ARGS.
 vc_args=(--lengths 20,100,400 --y 0,250 --repeats 1 --seed 7)
 # name → model file (relative to the repository)
 models=("default=data/models/default.json" "default-y=data/models/default-y.json")
@@ -56,20 +56,46 @@ for spec in "${models[@]}"; do
 done
 
 # ---- CAN on vcan0, inside the UML guest (one boot for every model)
+# can-rejects.log: hand-made traffic the vc never sends — a request whose part 1 comes after the
+# 50 ms part timeout (reject "timeout", then "missing part" twice), a frame with DLC 4 (reject
+# "wrong DLC"), then a good request — played by canplayer with these gaps, so the replay's
+# part timeout is driven by recorded timestamps.
+cat >"$work/rejects.in" <<'FRAMES'
+(0.000000) vcan0 300#00E8037017400600
+(0.100000) vcan0 300#01102728C0030000
+(0.101000) vcan0 300#0200003008000000
+(0.150000) vcan0 300#04E80370
+(0.200000) vcan0 300#04E8037017400600
+(0.201000) vcan0 300#05102728C0030000
+(0.202000) vcan0 300#0600003008000000
+FRAMES
 cat >"$work/can.sh" <<'GUEST'
 set -euo pipefail
-agent="$1"; vc="$2"; data="$3"; root="$4"; shift 4
+agent="$1"; vc="$2"; data="$3"; root="$4"; rejects="$5"; shift 5
+read -r -a vc_args <<<"$VC_ARGS"
+start_agent() {  # start_agent MODEL
+  "$agent" --can vcan0 --can-heartbeat-ms 0 --model "$1" >"$data/.agent.log" 2>&1 &
+  pid=$!
+  for _ in $(seq 100); do grep -q "listening on" "$data/.agent.log" && break; sleep 0.05; done
+}
 for spec in "$@"; do
   name="${spec%%=*}"; model="$root/${spec#*=}"
   # Heartbeats off: the vc's filter drops them anyway; fewer frames on the bus.
-  "$agent" --can vcan0 --can-heartbeat-ms 0 --model "$model" >"$data/.agent.log" 2>&1 &
-  pid=$!
-  for _ in $(seq 100); do grep -q "listening on" "$data/.agent.log" && break; sleep 0.05; done
-  "$vc" --can vcan0 --lengths 20,100,400 --y 0,250 --repeats 1 --seed 7 \
-    --record "$data/can-$name.log" >/dev/null
+  start_agent "$model"
+  "$vc" --can vcan0 "${vc_args[@]}" --record "$data/can-$name.log" >/dev/null
   kill "$pid"; wait "$pid" 2>/dev/null || true
   echo "wrote $data/can-$name.log ($(wc -l <"$data/can-$name.log") frames)"
 done
+start_agent "$root/data/models/default.json"
+# 7 request frames and 7 answers (4 rejects, 3 response parts); ids 0x300-0x303.
+candump -L -n 14 -T 3000 vcan0,300:7FC >"$data/can-rejects.log" &
+dump=$!
+sleep 0.2
+canplayer -I "$rejects"
+wait "$dump" || true
+kill "$pid"; wait "$pid" 2>/dev/null || true
+echo "wrote $data/can-rejects.log ($(wc -l <"$data/can-rejects.log") frames)"
 rm -f "$data/.agent.log"
 GUEST
-bash "$root/scripts/uml-run.sh" --timeout 120 -- bash "$work/can.sh" "$agent" "$vc" "$data" "$root" "${models[@]}"
+VC_ARGS="${vc_args[*]}" bash "$root/scripts/uml-run.sh" --timeout 120 -- \
+  bash "$work/can.sh" "$agent" "$vc" "$data" "$root" "$work/rejects.in" "${models[@]}"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # live_can.sh AGENT REPLAY DATA_DIR WORKDIR — the hil replay over CAN; run inside the UML guest
-# (scripts/uml-run.sh). For every can-*.log in DATA_DIR (model: data/models/NAME.json beside
-# DATA_DIR's repository, NAME = the file name without "can-"), starts cmmcomp-agent on vcan0
+# (scripts/uml-run.sh). For every can-*.log in DATA_DIR (model: the repository's
+# data/models/default-y.json for *-default-y.log, else default.json, as tests/replay/CMakeLists.txt
+# chooses), starts cmmcomp-agent on vcan0
 # and replays the recording against it twice: with cmmcomp-replay --live can:vcan0 (own raw
 # socket, field-by-field report), and with can-utils (canplayer sends the request frames,
 # candump -L captures the answers, compared with the recorded answers frame for frame).
@@ -15,19 +16,29 @@ cleanup() {
   for p in $pid $dump; do kill "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
 }
 trap cleanup EXIT
+# start_agent MODEL LOG: cmmcomp-agent on vcan0 (heartbeats on: replay must skip them); sets pid.
+start_agent() {
+  "$agent" --can vcan0 --can-heartbeat-ms 100 --model "$1" >"$2" 2>&1 &
+  pid=$!
+  for _ in $(seq 100); do grep -q "listening on" "$2" && break; sleep 0.05; done
+  grep -q "listening on" "$2" || { cat "$2"; exit 1; }
+}
 count=0
 for recording in "$data"/can-*.log; do
-  name="$(basename "$recording" .log)"; name="${name#can-}"
-  model="$root/data/models/$name.json"
-  "$agent" --can vcan0 --can-heartbeat-ms 100 --model "$model" >"$work/agent-$name.log" 2>&1 &
-  pid=$!
-  for _ in $(seq 100); do grep -q "listening on" "$work/agent-$name.log" && break; sleep 0.05; done
-  grep -q "listening on" "$work/agent-$name.log" || { cat "$work/agent-$name.log"; exit 1; }
+  name="$(basename "$recording" .log)"
+  case "$name" in
+    *-default-y) model="$root/data/models/default-y.json" ;;
+    *) model="$root/data/models/default.json" ;;
+  esac
+  start_agent "$model" "$work/agent-$name.log"
 
   # 1. cmmcomp-replay's own raw socket (heartbeats are filtered out by its socket).
   "$replay" "$recording" --live can:vcan0 --quiet
 
-  # 2. can-utils: the request frames only, replayed with their recorded timing.
+  # 2. can-utils: the request frames only, replayed with their recorded timing, to a fresh agent
+  # (reject frames carry the agent's reject count since it started).
+  kill "$pid"; wait "$pid" 2>/dev/null || true; pid=""
+  start_agent "$model" "$work/agent-$name-canplayer.log"
   grep ' 300#' "$recording" >"$work/requests-$name.log"
   grep -E ' 30[12]#' "$recording" | cut -d' ' -f2- >"$work/expected-$name.txt"
   answers=$(wc -l <"$work/expected-$name.txt")
