@@ -6,13 +6,16 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
 out="${1:-$here/build/main-job}"
+start=$(date +%s)
 mkdir -p "$out"
 
 bash scripts/install-deps.sh
 cmake --preset release >/dev/null
-cmake --build --preset release --target cmmcomp-sim cmmcomp-train
+cmake --build --preset release --target cmmcomp-sim cmmcomp-train cmmcomp-agent cmmcomp-vc
 sim="$here/build/release/tools/cmmcomp-sim/cmmcomp-sim"
 train="$here/build/release/tools/cmmcomp-train/cmmcomp-train"
+agent="$here/build/release/tools/cmmcomp-agent/cmmcomp-agent"
+vc="$here/build/release/tools/cmmcomp-vc/cmmcomp-vc"
 
 echo
 echo "== 1. The paper's baseline probing move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10) =="
@@ -28,4 +31,20 @@ echo "== 3. T-S fuzzy network: train on the L18 x 3 set, test on 270 Latin-hyper
 "$train" fit "$out/l18x3.csv" -o "$out/model.json"
 "$train" eval "$out/model.json" "$out/lhs270.csv" --plot "$out/fig5_compensation.png"
 echo
-echo "main job done; outputs in $out"
+echo "== 4. Length test at speed: the virtual controller asks cmmcomp-agent over Modbus TCP =="
+echo "   (models: the paper's 4 inputs, and 5 inputs with the carriage position Y)"
+bash tools/cmmcomp-vc/run-length-test.sh --agent-bin "$agent" --vc-bin "$vc" \
+  --out "$out/length-test" \
+  --model 4in=data/models/default.json --model 5in=data/models/default-y.json
+# The same over SocketCAN where the User-Mode Linux runner works (vcan needs a CAN kernel).
+if bash scripts/uml-run.sh --timeout 60 -- true >/dev/null 2>&1; then
+  echo
+  echo "== 5. The same length test over SocketCAN (vcan0 in User-Mode Linux) =="
+  bash scripts/uml-run.sh --timeout 180 -- bash tools/cmmcomp-vc/run-length-test.sh --can vcan0 \
+    --agent-bin "$agent" --vc-bin "$vc" --out "$out/length-test-can" \
+    --model 4in=data/models/default.json --model 5in=data/models/default-y.json
+else
+  echo "(SocketCAN length test skipped: scripts/uml-run.sh cannot boot User-Mode Linux here)"
+fi
+echo
+echo "main job done in $(( $(date +%s) - start )) s; outputs in $out"
