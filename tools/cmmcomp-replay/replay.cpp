@@ -119,11 +119,16 @@ ReplayResult run_replay(const Recording& recording,
         break;
       }
     }
-    if (options.verbose && text != nullptr &&
-        (!actual.empty() || !step.expected.empty() || !match)) {
-      *text << recording.source << ":" << step.request->line << ": " << request_summary << " -> "
-            << session.describe_answers(*step.request, actual) << ": "
-            << (match ? "match" : "MISMATCH") << "\n";
+    if (!actual.empty() || !step.expected.empty() || !match) {
+      ExchangeLine e{step.request->line,
+                     request_summary,
+                     session.describe_answers(*step.request, actual),
+                     match};
+      if (options.verbose && text != nullptr) {
+        *text << recording.source << ":" << e.line << ": " << e.request << " -> " << e.answer
+              << ": " << (match ? "match" : "MISMATCH") << "\n";
+      }
+      r.exchanges.push_back(std::move(e));
     }
     if (match) {
       ++r.matched;
@@ -211,6 +216,12 @@ std::string result_json(const ReplayResult& r) {
                     {"replayed_summary", m.actual_summary}});
   }
   j["mismatches"] = list;
+  nlohmann::json exchanges = nlohmann::json::array();
+  for (const ExchangeLine& e : r.exchanges) {
+    exchanges.push_back(
+        {{"line", e.line}, {"request", e.request}, {"answer", e.answer}, {"match", e.match}});
+  }
+  j["exchanges"] = exchanges;
   return j.dump(2);
 }
 

@@ -39,6 +39,14 @@ struct Mismatch {
   std::string actual_summary;
 };
 
+/// One request that had answers (recorded or replayed), as the text report prints it.
+struct ExchangeLine {
+  int line = 0;         ///< line of the request
+  std::string request;  ///< summary of the request
+  std::string answer;   ///< summary of the replayed answer
+  bool match = false;
+};
+
 struct ReplayResult {
   std::string source;
   std::string format;
@@ -50,6 +58,7 @@ struct ReplayResult {
   std::size_t other = 0;       ///< skipped messages not addressed to or from the plugin
   bool stopped_early = false;  ///< max_mismatches reached before the end
   std::vector<Mismatch> mismatches;
+  std::vector<ExchangeLine> exchanges;  ///< in order; requests without any answer are left out
 };
 
 /// Replays `recording` through `session`. Per request (when options.verbose) a line
