@@ -102,6 +102,11 @@ int run(const Options& opt) {
             ? replay::make_modbus_session(compensator, static_cast<std::uint8_t>(opt.modbus_unit))
             : replay::make_can_session(
                   compensator, base_id, std::chrono::milliseconds(opt.can_part_timeout_ms));
+  } else if (!opt.models.empty()) {
+    std::fprintf(stderr,
+                 "cmmcomp-replay: --model and --live exclude each other: a live agent answers "
+                 "with the model it serves\n");
+    return 2;
   } else if (opt.live.rfind("modbus:", 0) == 0 && modbus) {
     session = replay::make_modbus_live_session(opt.live.substr(7));
   } else if (opt.live.rfind("can:", 0) == 0 && !modbus) {
