@@ -138,21 +138,6 @@ cmmcomp::fuzzy::DomainPolicy parse_policy(const std::string& s) {
   return cmmcomp::fuzzy::DomainPolicy::kReject;
 }
 
-std::uint32_t parse_base_id(const std::string& text) {
-  std::size_t used = 0;
-  unsigned long v = 0;
-  try {
-    v = std::stoul(text, &used, 0);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || v > 0x7FF) {
-    throw cmmcomp::ConfigError("--can-base-id '" + text +
-                               "': not an 11-bit identifier (e.g. 0x300)");
-  }
-  return static_cast<std::uint32_t>(v);
-}
-
 int serve(const Options& opt) {
   spdlog::set_level(spdlog::level::from_str(opt.log_level));
   spdlog::info("cmmcomp-agent {}", CMMCOMP_VERSION_STRING);
@@ -189,7 +174,7 @@ int serve(const Options& opt) {
   if (!opt.can_interface.empty()) {
     cmmcomp::plugins::CanServerOptions o;
     o.interface = opt.can_interface;
-    o.base_id = parse_base_id(opt.can_base_id);
+    o.base_id = cmmcomp::plugins::parse_can_base_id(opt.can_base_id);
     o.heartbeat_period = std::chrono::milliseconds(opt.can_heartbeat_ms);
     o.part_timeout = std::chrono::milliseconds(opt.can_part_timeout_ms);
     can = std::make_unique<cmmcomp::plugins::CanServer>(compensator, o);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cmmcomp/error.hpp>
+#include <cmmcomp/plugins/can_server.hpp>
 #include <sstream>
 
 #include "can_link.hpp"
@@ -31,7 +32,8 @@ AgentSpec parse_agent_spec(const std::string& text) {
     const std::string can = rest.substr(4);
     const auto colon = can.find(':');
     s.endpoint = can.substr(0, colon);
-    if (colon != std::string::npos) s.can_base_id = parse_can_base_id(can.substr(colon + 1));
+    if (colon != std::string::npos)
+      s.can_base_id = plugins::parse_can_base_id(can.substr(colon + 1));
     if (s.endpoint.empty()) throw ConfigError(forms);
   } else {
     throw ConfigError(forms);

@@ -21,20 +21,6 @@ namespace cmmcomp::vc {
 
 namespace can = plugins::can;
 
-std::uint32_t parse_can_base_id(const std::string& text) {
-  std::size_t used = 0;
-  unsigned long v = 0;
-  try {
-    v = std::stoul(text, &used, 0);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || v > can::kMaxStandardId - (can::kMessageCount - 1)) {
-    throw ConfigError("--can-base-id '" + text + "': expected an 11-bit id ≤ 0x7FC, e.g. 0x300");
-  }
-  return static_cast<std::uint32_t>(v);
-}
-
 CanLink::CanLink(std::string label,
                  const std::string& interface,
                  std::uint32_t base_id,

@@ -44,7 +44,4 @@ class CanLink final : public CorrectionSource {
   std::ofstream record_;
 };
 
-/// Parses "0x300" / "768": an 11-bit base id ≤ 0x7FC. Throws ConfigError.
-std::uint32_t parse_can_base_id(const std::string& text);
-
 }  // namespace cmmcomp::vc

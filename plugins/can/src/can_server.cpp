@@ -13,6 +13,8 @@
 #include <cmmcomp/plugins/can_server.hpp>
 #include <cstdio>
 #include <cstring>
+#include <exception>
+#include <string>
 
 namespace cmmcomp::plugins {
 namespace {
@@ -37,6 +39,20 @@ int interface_mtu(int socket, const std::string& interface) {
 }
 
 }  // namespace
+
+std::uint32_t parse_can_base_id(const std::string& text) {
+  std::size_t used = 0;
+  unsigned long v = 0;
+  try {
+    v = std::stoul(text, &used, 0);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || v > can::kMaxStandardId - (can::kMessageCount - 1)) {
+    throw ConfigError("--can-base-id '" + text + "': expected an 11-bit id ≤ 0x7FC, e.g. 0x300");
+  }
+  return static_cast<std::uint32_t>(v);
+}
 
 bool CanServerOptions::is_valid(std::string* why) const {
   const auto fail = [why](const char* message) {

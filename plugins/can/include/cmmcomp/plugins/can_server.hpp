@@ -13,6 +13,11 @@
 
 namespace cmmcomp::plugins {
 
+/// Parses a base identifier as a user writes it ("0x300", "768"): an 11-bit standard id that
+/// leaves room for the protocol's four messages (≤ 0x7FC). Setup only. Throws ConfigError
+/// "--can-base-id '…': expected an 11-bit id ≤ 0x7FC, e.g. 0x300".
+std::uint32_t parse_can_base_id(const std::string& text);
+
 /// Options of a CanServer, fixed at construction.
 struct CanServerOptions {
   std::string interface = "vcan0";              ///< CAN network interface (vcan0, can0, …)
