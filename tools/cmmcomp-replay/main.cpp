@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cmmcomp/compensation/move_compensator.hpp>
 #include <cmmcomp/error.hpp>
+#include <cmmcomp/plugins/can_server.hpp>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -40,21 +41,6 @@ cmmcomp::fuzzy::DomainPolicy parse_policy(const std::string& s) {
   return cmmcomp::fuzzy::DomainPolicy::kClamp;
 }
 
-std::uint32_t parse_base_id(const std::string& text) {
-  std::size_t used = 0;
-  unsigned long v = 0;
-  try {
-    v = std::stoul(text, &used, 0);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || v > 0x7FF) {
-    throw cmmcomp::ConfigError("--can-base-id '" + text +
-                               "': not an 11-bit identifier (e.g. 0x300)");
-  }
-  return static_cast<std::uint32_t>(v);
-}
-
 /// Loads the models as cmmcomp-agent does; false (with the reasons on stderr) when one fails.
 bool load_models(const Options& opt, cmmcomp::compensation::MoveCompensator& compensator) {
   std::vector<cmmcomp::agent::ModelSlot> slots;
@@ -88,7 +74,7 @@ int run(const Options& opt) {
     std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
     return 2;
   }
-  const std::uint32_t base_id = parse_base_id(opt.can_base_id);
+  const std::uint32_t base_id = cmmcomp::plugins::parse_can_base_id(opt.can_base_id);
   const bool modbus = recording.format == replay::RecordingFormat::kModbusTranscript;
 
   cmmcomp::compensation::CompensatorOptions copt;
