@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -111,5 +112,35 @@ class AgentProcess {
   int status_ = -1;
   std::string output_;
 };
+
+/// An agent serving Modbus TCP on a loopback port, started by start_modbus_agent.
+struct RunningAgent {
+  std::unique_ptr<AgentProcess> process;  ///< null when it could not be started
+  int port = 0;
+};
+
+/// Starts `program` (cmmcomp-agent) with `--modbus tcp:127.0.0.1:PORT` plus `extra` on a free
+/// port: ports are spread by pid and `salt` (so parallel tests rarely meet) and retried when
+/// taken (libmodbus cannot bind port 0). Waits for its ready line. On failure `process` is null
+/// and `*why` says what the agent printed.
+inline RunningAgent start_modbus_agent(const std::string& program,
+                                       const std::vector<std::string>& extra,
+                                       int salt,
+                                       std::string* why) {
+  using namespace std::chrono_literals;
+  for (int attempt = 0; attempt < 20; ++attempt) {
+    const int port = 20000 + static_cast<int>((getpid() * 53 + salt * 997 + attempt * 131) % 25000);
+    std::vector<std::string> args{"--modbus", "tcp:127.0.0.1:" + std::to_string(port)};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto p = std::make_unique<AgentProcess>(program, args);
+    if (p->wait_for_output("listening on Modbus TCP", 10s)) return {std::move(p), port};
+    if (p->output().find("in use") == std::string::npos) {
+      *why = "agent did not start:\n" + p->output();
+      return {};
+    }
+  }
+  *why = "no free port";
+  return {};
+}
 
 }  // namespace cmmcomp::test

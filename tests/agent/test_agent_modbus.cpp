@@ -44,26 +44,13 @@ struct ClientDeleter {
 };
 using Client = std::unique_ptr<modbus_t, ClientDeleter>;
 
-/// Starts the agent on a free loopback port (spread by pid, retried when taken).
-struct RunningAgent {
-  std::unique_ptr<AgentProcess> process;
-  int port = 0;
-};
+using test::RunningAgent;
 
-RunningAgent start_agent(std::vector<std::string> extra) {
-  for (int attempt = 0; attempt < 20; ++attempt) {
-    const int port = 20000 + static_cast<int>((getpid() * 37 + attempt * 101) % 20000);
-    std::vector<std::string> args{"--modbus", "tcp:127.0.0.1:" + std::to_string(port)};
-    args.insert(args.end(), extra.begin(), extra.end());
-    auto p = std::make_unique<AgentProcess>(CMMCOMP_AGENT_PATH, args);
-    if (p->wait_for_output("listening on Modbus TCP", 10s)) return {std::move(p), port};
-    if (p->output().find("in use") == std::string::npos) {
-      ADD_FAILURE() << "agent did not start:\n" << p->output();
-      return {};
-    }
-  }
-  ADD_FAILURE() << "no free port";
-  return {};
+RunningAgent start_agent(const std::vector<std::string>& extra) {
+  std::string why;
+  RunningAgent a = test::start_modbus_agent(CMMCOMP_AGENT_PATH, extra, 0, &why);
+  if (!a.process) ADD_FAILURE() << why;
+  return a;
 }
 
 Client connect(int port) {

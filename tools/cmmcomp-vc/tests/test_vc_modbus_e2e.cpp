@@ -31,26 +31,14 @@ namespace {
 using namespace std::chrono_literals;
 using test::AgentProcess;
 
-struct RunningAgent {
-  std::unique_ptr<AgentProcess> process;
-  int port = 0;
-};
+using test::RunningAgent;
 
-/// Starts an agent on a free loopback port (spread by pid and `salt`, retried when taken).
+/// Starts an agent with the shipped model on a free loopback port.
 RunningAgent start_agent(int salt) {
-  for (int attempt = 0; attempt < 20; ++attempt) {
-    const int port = 20000 + static_cast<int>((getpid() * 53 + salt * 997 + attempt * 131) % 25000);
-    auto p = std::make_unique<AgentProcess>(
-        CMMCOMP_AGENT_PATH,
-        std::vector<std::string>{"--modbus", "tcp:127.0.0.1:" + std::to_string(port)});
-    if (p->wait_for_output("listening on Modbus TCP", 10s)) return {std::move(p), port};
-    if (p->output().find("in use") == std::string::npos) {
-      ADD_FAILURE() << "agent did not start:\n" << p->output();
-      return {};
-    }
-  }
-  ADD_FAILURE() << "no free port";
-  return {};
+  std::string why;
+  RunningAgent a = test::start_modbus_agent(CMMCOMP_AGENT_PATH, {}, salt, &why);
+  if (!a.process) ADD_FAILURE() << why;
+  return a;
 }
 
 struct VcRun {
