@@ -75,16 +75,22 @@ int code_of_current_exception() noexcept {
   }
 }
 
+// Reads `path` when given (else uses `text`), parses and publishes into `comp`. Throws; the
+// callers turn exceptions into codes.
+int load_and_publish(cm::MoveCompensator& comp, const std::string* text, const char* path) {
+  std::string from_file;
+  if (path != nullptr) {
+    const int rc = read_file(path, from_file);
+    if (rc != CMMCOMP_OK) return rc;
+    text = &from_file;
+  }
+  return publish_text(comp, *text, path != nullptr ? path : "<memory>");
+}
+
 int create(const std::string* text, const char* path, cmmcomp_compensator** out) noexcept {
   try {
-    std::string from_file;
-    if (path != nullptr) {
-      const int rc = read_file(path, from_file);
-      if (rc != CMMCOMP_OK) return rc;
-      text = &from_file;
-    }
     auto c = std::make_unique<cmmcomp_compensator>();
-    const int rc = publish_text(c->compensator, *text, path != nullptr ? path : "<memory>");
+    const int rc = load_and_publish(c->compensator, text, path);
     if (rc != CMMCOMP_OK) return rc;
     *out = c.release();
     return CMMCOMP_OK;
@@ -95,13 +101,7 @@ int create(const std::string* text, const char* path, cmmcomp_compensator** out)
 
 int reload(cmmcomp_compensator* c, const std::string* text, const char* path) noexcept {
   try {
-    std::string from_file;
-    if (path != nullptr) {
-      const int rc = read_file(path, from_file);
-      if (rc != CMMCOMP_OK) return rc;
-      text = &from_file;
-    }
-    return publish_text(c->compensator, *text, path != nullptr ? path : "<memory>");
+    return load_and_publish(c->compensator, text, path);
   } catch (...) {
     return code_of_current_exception();
   }

@@ -79,13 +79,11 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
 
 std::vector<io::DatasetRow> rows_from_design(const doe::Design& design,
                                              const FixedSettings& fixed) {
-  const int pv = design.factor_index("PV");
-  const int pd = design.factor_index("PD");
-  const int av = design.factor_index("AV");
-  const int ad = design.factor_index("AD");
-  const auto& names = design.factor_names;
-  const int y =
-      std::find(names.begin(), names.end(), "Y") == names.end() ? -1 : design.factor_index("Y");
+  const int pv = design.find_factor("PV");
+  const int pd = design.find_factor("PD");
+  const int av = design.find_factor("AV");
+  const int ad = design.find_factor("AD");
+  const int y = design.find_factor("Y");  // optional
   if (pv < 0 || pd < 0 || av < 0 || ad < 0 || design.factors() != (y < 0 ? 4 : 5)) {
     throw std::invalid_argument(
         "a move design needs exactly the factors PV, PD, AV, AD and optionally Y");

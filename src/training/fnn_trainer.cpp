@@ -139,9 +139,10 @@ class Trainer {
     // Steps 3 and 4: premise initialisation, CV of the ridge consequents, ridge init at λ.
     std::vector<double> premise = initial_premise();
     const MatrixXd phi = design_matrix(premise);
+    const MatrixXd u = linear_terms();
     s.lambda_grid =
         options_.lambda < 0.0 ? options_.lambda_grid : std::vector<double>{options_.lambda};
-    const MatrixXd sse = cross_validate(phi, s.lambda_grid);  // [grid][output]
+    const MatrixXd sse = cross_validate(phi, u, s.lambda_grid);  // [grid][output]
     std::size_t best = 0;
     for (std::size_t g = 0; g < s.lambda_grid.size(); ++g) {
       const double mse = sse.row(static_cast<Index>(g)).sum() / (n_ * kOutputs);
@@ -155,7 +156,6 @@ class Trainer {
     for (int o = 0; o < kOutputs; ++o) {
       s.cv_rmse.push_back(std::sqrt(sse(static_cast<Index>(best), o) / n_) * scale_[sz(o)]);
     }
-    const MatrixXd u = linear_terms();
     const MatrixXd g = global_linear_fit(u, z_);  // kTerms × kOutputs
     prior_.assign(static_cast<std::size_t>(kOutputs * kTerms), 0.0);
     for (int o = 0; o < kOutputs; ++o) {
@@ -304,9 +304,10 @@ class Trainer {
   }
 
   /// Sum of squared CV errors [normalised], rows = grid values, columns = outputs.
-  MatrixXd cross_validate(const MatrixXd& phi, const std::vector<double>& grid) const {
+  MatrixXd cross_validate(const MatrixXd& phi,
+                          const MatrixXd& u,
+                          const std::vector<double>& grid) const {
     const std::size_t n = x_.size();
-    const MatrixXd u = linear_terms();
     const auto folds = static_cast<std::size_t>(options_.folds);
     std::vector<std::size_t> order(n);
     for (std::size_t k = 0; k < n; ++k) order[k] = k;

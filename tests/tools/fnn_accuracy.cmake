@@ -10,13 +10,7 @@
 cmake_minimum_required(VERSION 3.25)
 file(MAKE_DIRECTORY "${WORK}")
 
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "command failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-  set(run_out "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/run_command.cmake)
 
 run(${SIM} dataset --design l18 --repeats 3 --noise --seed 1 -o ${WORK}/l18x3.csv)
 run(${SIM} dataset --design lhs --samples 270 --noise --seed 2 -o ${WORK}/lhs270.csv)

@@ -4,12 +4,7 @@
 # is within 0.1 % of the truth. Variables: SIM, WORK_DIR, SECTION, KEY, FACTOR.
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/run_command.cmake)
 
 # In machine-file text `text`, the offset of SECTION.KEY's value (`at`) and the value (`out`).
 # Works on the whole text (no CMake lists: a description may contain ';').

@@ -185,22 +185,17 @@ int serve(const Options& opt) {
     modbus = std::make_unique<cmmcomp::plugins::ModbusServer>(
         compensator, cmmcomp::plugins::ModbusEndpoint::parse(opt.modbus), o);
   }
-  for (const char* what : {"can", "modbus"}) {
-    std::string where;
-    if (std::string(what) == "can" && can) {
-      where = can->where();
-      threads.push_back(std::make_unique<ServerThread>(std::move(can), stop, failed));
-    } else if (std::string(what) == "modbus" && modbus) {
-      where = modbus->where();
-      threads.push_back(std::make_unique<ServerThread>(std::move(modbus), stop, failed));
-    } else {
-      continue;
-    }
-    // On stdout too, one line each, for scripts that wait for the agent to be ready.
+  // Start serving only once every server is set up; announce each on stdout too, one line
+  // each, for scripts that wait for the agent to be ready.
+  const auto serve_on_thread = [&](auto server) {
+    const std::string where = server->where();
+    threads.push_back(std::make_unique<ServerThread>(std::move(server), stop, failed));
     std::printf("cmmcomp-agent: listening on %s\n", where.c_str());
     std::fflush(stdout);
     spdlog::info("listening on {}", where);
-  }
+  };
+  if (can) serve_on_thread(std::move(can));
+  if (modbus) serve_on_thread(std::move(modbus));
 
   int exit_code = 0;
   while (true) {

@@ -22,18 +22,6 @@ can::Frame to_frame(std::uint32_t id, const std::vector<std::uint8_t>& data) {
   return f;
 }
 
-const FieldValue* find(const std::vector<FieldValue>& fields, const char* name) {
-  for (const FieldValue& f : fields) {
-    if (f.name == name) return &f;
-  }
-  return nullptr;
-}
-
-std::string number_of(const FieldValue* f) {
-  if (f == nullptr) return "?";
-  return f->value.substr(0, f->value.find(' '));
-}
-
 }  // namespace
 
 std::vector<FieldValue> decode_can_frame(std::uint32_t base_id,
@@ -100,18 +88,19 @@ std::string summarize_can_answer(std::uint32_t base_id,
     const std::vector<FieldValue> f = decode_can_frame(base_id, ids[i], frames[i]);
     if (ids[i] == base_id + can::kRejectOffset) {
       rejects += (rejects.empty() ? "reject: " : "; reject: ") +
-                 (find(f, "Reason") != nullptr ? find(f, "Reason")->value : "?") + " (seq " +
-                 number_of(find(f, "RejSequence")) + ", part " + number_of(find(f, "RejPart")) +
-                 ")";
+                 (field_named(f, "Reason") != nullptr ? field_named(f, "Reason")->value : "?") +
+                 " (seq " + number_of(field_named(f, "RejSequence")) + ", part " +
+                 number_of(field_named(f, "RejPart")) + ")";
     } else {
       all.insert(all.end(), f.begin(), f.end());
     }
   }
   std::string s;
-  if (find(all, "RAE") != nullptr) {
-    s = "RAE " + find(all, "RAE")->value + " corr (" + number_of(find(all, "CorrX")) + ", " +
-        number_of(find(all, "CorrY")) + ", " + number_of(find(all, "CorrZ")) + ") µm";
-    if (const FieldValue* id = find(all, "ModelId")) s += " model " + id->value;
+  if (field_named(all, "RAE") != nullptr) {
+    s = "RAE " + field_named(all, "RAE")->value + " corr (" + number_of(field_named(all, "CorrX")) +
+        ", " + number_of(field_named(all, "CorrY")) + ", " + number_of(field_named(all, "CorrZ")) +
+        ") µm";
+    if (const FieldValue* id = field_named(all, "ModelId")) s += " model " + id->value;
   }
   if (!rejects.empty()) s += (s.empty() ? "" : "; ") + rejects;
   return s.empty() ? "answer frames without a result" : s;

@@ -97,10 +97,7 @@ class CanSessionBase : public Session {
  private:
   /// The value of signal `name` without its unit, "?" when absent.
   static std::string value(const std::vector<FieldValue>& fields, const char* name) {
-    for (const FieldValue& f : fields) {
-      if (f.name == name) return f.value.substr(0, f.value.find(' '));
-    }
-    return "?";
+    return number_of(field_named(fields, name));
   }
 
   std::vector<FieldValue> parts_;  // the signals of the request being assembled

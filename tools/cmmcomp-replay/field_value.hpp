@@ -25,4 +25,19 @@ inline const FieldValue* field_at(const std::vector<FieldValue>& fields, std::si
   return nullptr;
 }
 
+/// The field called `name`, or nullptr.
+inline const FieldValue* field_named(const std::vector<FieldValue>& fields,
+                                     const std::string& name) {
+  for (const FieldValue& f : fields) {
+    if (f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+/// The value of `f` without its unit ("-5.298" of "-5.298 µm"); "?" when `f` is null.
+inline std::string number_of(const FieldValue* f) {
+  if (f == nullptr) return "?";
+  return f->value.substr(0, f->value.find(' '));
+}
+
 }  // namespace cmmcomp::replay

@@ -202,19 +202,6 @@ void add_mbap(std::vector<FieldValue>& out, const std::vector<std::uint8_t>& b) 
   add(out, "function code", 7, 1, "0x" + format_hex(b[7], 2));
 }
 
-const FieldValue* find(const std::vector<FieldValue>& fields, const std::string& name) {
-  for (const FieldValue& f : fields) {
-    if (f.name == name) return &f;
-  }
-  return nullptr;
-}
-
-/// "v" without its unit ("-5.298" of "-5.298 µm").
-std::string number_of(const FieldValue* f) {
-  if (f == nullptr) return "?";
-  return f->value.substr(0, f->value.find(' '));
-}
-
 }  // namespace
 
 std::vector<FieldValue> decode_modbus_request(const std::vector<std::uint8_t>& b) {
@@ -282,16 +269,17 @@ std::string summarize_modbus_request(const std::vector<std::uint8_t>& adu) {
   const std::vector<FieldValue> f = decode_modbus_request(adu);
   if (adu.size() < 8) return "short ADU";
   std::string s = "FC" + format_hex(adu[7], 2);
-  const FieldValue* seq = find(f, "sequence");
+  const FieldValue* seq = field_named(f, "sequence");
   if (seq != nullptr) s += " seq " + seq->value;
-  if (find(f, "PV") != nullptr) {
-    s += " axis " + number_of(find(f, "axis")) + " dir (" + number_of(find(f, "direction x")) +
-         ", " + number_of(find(f, "direction y")) + ", " + number_of(find(f, "direction z")) +
-         ") PV " + number_of(find(f, "PV")) + " PD " + number_of(find(f, "PD")) + " AV " +
-         number_of(find(f, "AV")) + " AD " + number_of(find(f, "AD")) + " Y " +
-         number_of(find(f, "Y"));
-  } else if (const FieldValue* ra = find(f, "read address")) {
-    s += " read " + ra->value + "+" + number_of(find(f, "read count"));
+  if (field_named(f, "PV") != nullptr) {
+    s += " axis " + number_of(field_named(f, "axis")) + " dir (" +
+         number_of(field_named(f, "direction x")) + ", " +
+         number_of(field_named(f, "direction y")) + ", " +
+         number_of(field_named(f, "direction z")) + ") PV " + number_of(field_named(f, "PV")) +
+         " PD " + number_of(field_named(f, "PD")) + " AV " + number_of(field_named(f, "AV")) +
+         " AD " + number_of(field_named(f, "AD")) + " Y " + number_of(field_named(f, "Y"));
+  } else if (const FieldValue* ra = field_named(f, "read address")) {
+    s += " read " + ra->value + "+" + number_of(field_named(f, "read count"));
   }
   return s;
 }
@@ -299,15 +287,17 @@ std::string summarize_modbus_request(const std::vector<std::uint8_t>& adu) {
 std::string summarize_modbus_answer(const std::vector<std::uint8_t>& request,
                                     const std::vector<std::uint8_t>& adu) {
   const std::vector<FieldValue> f = decode_modbus_answer(request, adu);
-  if (const FieldValue* e = find(f, "exception code")) return "exception " + e->value;
+  if (const FieldValue* e = field_named(f, "exception code")) return "exception " + e->value;
   std::string s;
-  if (const FieldValue* st = find(f, "status")) s += "status " + st->value;
-  if (const FieldValue* rae = find(f, "RAE")) s += (s.empty() ? "" : " ") + ("RAE " + rae->value);
-  if (find(f, "correction x") != nullptr) {
-    s += " corr (" + number_of(find(f, "correction x")) + ", " +
-         number_of(find(f, "correction y")) + ", " + number_of(find(f, "correction z")) + ") µm";
+  if (const FieldValue* st = field_named(f, "status")) s += "status " + st->value;
+  if (const FieldValue* rae = field_named(f, "RAE"))
+    s += (s.empty() ? "" : " ") + ("RAE " + rae->value);
+  if (field_named(f, "correction x") != nullptr) {
+    s += " corr (" + number_of(field_named(f, "correction x")) + ", " +
+         number_of(field_named(f, "correction y")) + ", " +
+         number_of(field_named(f, "correction z")) + ") µm";
   }
-  if (const FieldValue* id = find(f, "model id")) s += " model " + id->value;
+  if (const FieldValue* id = field_named(f, "model id")) s += " model " + id->value;
   if (s.empty()) s = "FC" + (adu.size() > 7 ? format_hex(adu[7], 2) : std::string("?")) + " ok";
   return s;
 }

@@ -43,13 +43,6 @@ struct InputSet<5> {
   static std::vector<std::string> names() { return {"PV", "PD", "AV", "AD", "Y"}; }
 };
 
-/// "pv,pd,av,ad" -> 4, "pv,pd,av,ad,y" -> 5 (the only two the compensator serves).
-int input_count(const std::string& inputs) {
-  if (inputs == "pv,pd,av,ad") return 4;
-  if (inputs == "pv,pd,av,ad,y") return 5;
-  throw cmmcomp::ConfigError("--inputs must be pv,pd,av,ad or pv,pd,av,ad,y, not '" + inputs + "'");
-}
-
 constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
 
 struct FitCommand {
@@ -298,7 +291,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (fit->parsed()) {
-      return input_count(fit_cmd.inputs) == 5 ? run_fit<5>(fit_cmd) : run_fit<4>(fit_cmd);
+      // --inputs is one of the two values CLI11 accepts (IsMember below).
+      return fit_cmd.inputs == "pv,pd,av,ad,y" ? run_fit<5>(fit_cmd) : run_fit<4>(fit_cmd);
     }
     if (eval->parsed() || exp->parsed()) {
       // Either architecture the compensator serves; the file says which.

@@ -71,13 +71,7 @@ ProbeSetting parse_setting(const std::string& text, ProbeSetting base) {
 }
 
 motion::ProbingMove move_of(const ProbeSetting& s) noexcept {
-  return motion::ProbingMove{s.pv_mm_s * 1e-3,
-                             s.pa_mm_s2 * 1e-3,
-                             s.pd_mm * 1e-3,
-                             s.av_mm_s * 1e-3,
-                             s.aa_mm_s2 * 1e-3,
-                             s.ad_mm * 1e-3,
-                             0.0};
+  return motion::probing_move_mm(s.pv_mm_s, s.pa_mm_s2, s.pd_mm, s.av_mm_s, s.aa_mm_s2, s.ad_mm);
 }
 
 double time_per_point_s(const ProbeSetting& s) {

@@ -61,12 +61,18 @@ struct Design {
     check_cell(run, factor);
     return level_indices[static_cast<std::size_t>(run)][static_cast<std::size_t>(factor)];
   }
-  /// Index of the factor called `name`. @throws std::invalid_argument when there is none.
-  int factor_index(const std::string& name) const {
+  /// Index of the factor called `name`, or −1 when there is none.
+  int find_factor(const std::string& name) const noexcept {
     for (std::size_t f = 0; f < factor_names.size(); ++f) {
       if (factor_names[f] == name) return static_cast<int>(f);
     }
-    throw std::invalid_argument("Design: no factor named '" + name + "'");
+    return -1;
+  }
+  /// Index of the factor called `name`. @throws std::invalid_argument when there is none.
+  int factor_index(const std::string& name) const {
+    const int f = find_factor(name);
+    if (f < 0) throw std::invalid_argument("Design: no factor named '" + name + "'");
+    return f;
   }
 
   /// Checks the table's consistency: at least one factor and one run, unique non-empty names,

@@ -31,13 +31,7 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
 
 /// The move of a dataset row (file units mm, mm/s, mm/s²) in SI units, without a jerk limit.
 inline motion::ProbingMove move_of(const io::DatasetRow& r) {
-  return motion::ProbingMove{r.pv_mm_s * 1e-3,
-                             r.pa_mm_s2 * 1e-3,
-                             r.pd_mm * 1e-3,
-                             r.av_mm_s * 1e-3,
-                             r.aa_mm_s2 * 1e-3,
-                             r.ad_mm * 1e-3,
-                             0.0};
+  return motion::probing_move_mm(r.pv_mm_s, r.pa_mm_s2, r.pd_mm, r.av_mm_s, r.aa_mm_s2, r.ad_mm);
 }
 
 /// The fixed settings of a design's moves, file units (mm, mm/s, mm/s²).

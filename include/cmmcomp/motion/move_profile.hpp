@@ -31,6 +31,23 @@ struct ProbingMove {
   double jerk = 0.0;                  ///< jerk limit [m/s^3]; 0 = none (trapezoidal profiles)
 };
 
+/// A move given in the units of the tools, the dataset CSV and the compensator (mm, mm/s,
+/// mm/s²), in SI units, without a jerk limit.
+constexpr ProbingMove probing_move_mm(double pv_mm_s,
+                                      double pa_mm_s2,
+                                      double pd_mm,
+                                      double av_mm_s,
+                                      double aa_mm_s2,
+                                      double ad_mm) noexcept {
+  return ProbingMove{pv_mm_s * 1e-3,
+                     pa_mm_s2 * 1e-3,
+                     pd_mm * 1e-3,
+                     av_mm_s * 1e-3,
+                     aa_mm_s2 * 1e-3,
+                     ad_mm * 1e-3,
+                     0.0};
+}
+
 /// The paper's baseline move (PV 40 mm/s, PA 200 mm/s^2, PD 40 mm, AV 12 mm/s, AA 60 mm/s^2,
 /// AD 10 mm), in SI units.
 constexpr ProbingMove baseline_move() noexcept {

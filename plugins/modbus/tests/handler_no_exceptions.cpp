@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "support/compensation_models.hpp"
+#include "modbus_example.hpp"
 
 namespace {
 
@@ -34,21 +34,11 @@ std::size_t write_pdu(const map::HoldingRegisters& h, std::uint8_t* pdu) {
 int main() {
   using namespace cmmcomp;
   compensation::MoveCompensator comp;
-  const auto model = test::linear_model({10.0, -2.0, 4.0, 1.5}, {2.0, 1.0, 2.0, 1.0});
-  if (comp.publish(0, model, 0x0123456789ABCDEFull) != Status::kOk) return 1;
+  const auto model = test::example_model();
+  if (comp.publish(0, model, test::kExampleModelId) != Status::kOk) return 1;
   plugins::ModbusRequestHandler handler(comp, 1, plugins::ModbusTransport::kTcp);
 
-  compensation::MoveRequest m;
-  m.sequence = 7;
-  m.direction = {0.6, 0.0, -0.8};
-  m.pv_mm_s = 42.5;
-  m.pa_mm_s2 = 200.0;
-  m.pd_mm = 20.0;
-  m.av_mm_s = 5.0;
-  m.aa_mm_s2 = 50.0;
-  m.ad_mm = 2.0;
-  m.y_mm = 250.0;
-  m.z_mm = -100.0;
+  const compensation::MoveRequest m = test::example_request();
   map::HoldingRegisters h{};
   map::encode_request(m, h);
   std::uint8_t pdu[6 + 2 * map::kRequestCount];
