@@ -113,14 +113,13 @@ int param_count(int inputs, int sets, int outputs) {
 }
 // Flat indices; must equal TskLayout's (tests compare them through the typed accessors).
 std::size_t centre_index(const detail::ModelData& d, int i, int s) {
-  return static_cast<std::size_t>(i * d.sets + s);
+  return static_cast<std::size_t>(s * d.inputs + i);
 }
 std::size_t width_index(const detail::ModelData& d, int i, int s) {
-  return static_cast<std::size_t>(d.inputs * d.sets + i * d.sets + s);
+  return static_cast<std::size_t>(d.inputs * d.sets + s * d.inputs + i);
 }
 std::size_t consequent_index(const detail::ModelData& d, int o, int j, int k) {
-  return static_cast<std::size_t>(2 * d.inputs * d.sets +
-                                  (o * rules_of(d.inputs, d.sets) + j) * (d.inputs + 1) + k);
+  return static_cast<std::size_t>(2 * d.inputs * d.sets + (j * d.outputs + o) * (d.inputs + 1) + k);
 }
 
 std::string idx(int i) { return "[" + std::to_string(i) + "]"; }
@@ -857,29 +856,30 @@ std::string export_model_header(const ModelData& data, const std::string& symbol
        "    // parameters: empty TskLayout base, then the flat block (layout in tsk_params.hpp)\n"
        "    {{},\n"
        "     {{\n";
-  for (int i = 0; i < data.inputs; ++i) {
-    h += "         // centres[" + std::to_string(i) + "][0.." + std::to_string(data.sets - 1) +
-         "]\n        ";
-    for (int s = 0; s < data.sets; ++s)
+  // The flat block in its own order (tsk_params.hpp): set-major centres and widths, then the
+  // consequents rule by rule, every output of a rule together.
+  for (int s = 0; s < data.sets; ++s) {
+    h += "         // centres of set " + std::to_string(s) + ", inputs 0.." +
+         std::to_string(data.inputs - 1) + "\n        ";
+    for (int i = 0; i < data.inputs; ++i)
       h += " " + double_literal(data.params[centre_index(data, i, s)]) + ",";
     h += "\n";
   }
-  for (int i = 0; i < data.inputs; ++i) {
-    h += "         // widths[" + std::to_string(i) + "][0.." + std::to_string(data.sets - 1) +
-         "]\n        ";
-    for (int s = 0; s < data.sets; ++s)
+  for (int s = 0; s < data.sets; ++s) {
+    h += "         // widths of set " + std::to_string(s) + ", inputs 0.." +
+         std::to_string(data.inputs - 1) + "\n        ";
+    for (int i = 0; i < data.inputs; ++i)
       h += " " + double_literal(data.params[width_index(data, i, s)]) + ",";
     h += "\n";
   }
-  for (int o = 0; o < data.outputs; ++o) {
-    h += "         // consequents[" + std::to_string(o) +
-         "][rule][term 0 = constant, 1 + i = input i]\n";
-    for (int j = 0; j < rules; ++j) {
+  h += "         // consequents [rule][output][term 0 = constant, 1 + i = input i]\n";
+  for (int j = 0; j < rules; ++j) {
+    for (int o = 0; o < data.outputs; ++o) {
       h += "        ";
       for (int k = 0; k <= data.inputs; ++k) {
         h += " " + double_literal(data.params[consequent_index(data, o, j, k)]) + ",";
       }
-      h += "  // [" + std::to_string(j) + "]\n";
+      h += "  // rule " + std::to_string(j) + ", output " + std::to_string(o) + "\n";
     }
   }
   h += "     }}}};\n"

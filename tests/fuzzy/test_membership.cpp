@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 #include <cmmcomp/fuzzy/membership.hpp>
+#include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cstddef>
 #include <limits>
 
 namespace cmmcomp::fuzzy {
@@ -31,12 +33,29 @@ TEST(Membership, ExponentIsFiniteForAnyInputAndPositiveWidth) {
   EXPECT_EQ(gaussian_exponent(1e300, 0.0, 1.0), -kMaxNormalisedDistance * kMaxNormalisedDistance);
 }
 
+// The evaluator's shifted memberships, on a one-input network: params = centres, widths, then
+// the consequents (unused here).
+template <typename Scalar>
+std::array<Scalar, 3> shifted(Scalar x,
+                              const std::array<Scalar, 3>& c,
+                              const std::array<Scalar, 3>& w) {
+  using Eval = TskEvaluator<Scalar, 1, 3, 1>;
+  std::array<Scalar, Eval::kParamCount> p{};
+  for (int s = 0; s < 3; ++s) {
+    p[static_cast<std::size_t>(Eval::Layout::centre_index(0, s))] = c[static_cast<std::size_t>(s)];
+    p[static_cast<std::size_t>(Eval::Layout::width_index(0, s))] = w[static_cast<std::size_t>(s)];
+  }
+  typename Eval::Memberships mu{};
+  const Scalar total = Eval::memberships(p.data(), {x}, mu);
+  EXPECT_EQ(total, mu[0][0] + mu[0][1] + mu[0][2]);
+  return mu[0];
+}
+
 TEST(Membership, ShiftedMembershipsAreRatiosToTheBestSet) {
   const std::array<double, 3> c{0.0, 0.5, 1.0};
   const std::array<double, 3> w{0.3, 0.2, 0.4};
   for (const double x : {-0.2, 0.1, 0.5, 0.8, 1.3}) {
-    std::array<double, 3> out{};
-    shifted_memberships<double, 3>(x, c.data(), w.data(), out.data());
+    const std::array<double, 3> out = shifted(x, c, w);
     double best = 0.0;
     for (int s = 0; s < 3; ++s) best = std::max(best, gaussian_membership(x, c[s], w[s]));
     double top = 0.0;
@@ -52,16 +71,13 @@ TEST(Membership, ShiftedMembershipsSurviveTotalUnderflow) {
   // At x = 1e6 every plain membership is exp(-1e13) = 0; the shifted ones keep the nearest set.
   const std::array<double, 3> c{0.0, 0.5, 1.0};
   const std::array<double, 3> w{0.3, 0.3, 0.3};
-  std::array<double, 3> out{};
-  shifted_memberships<double, 3>(1e6, c.data(), w.data(), out.data());
+  const std::array<double, 3> out = shifted(1e6, c, w);
   EXPECT_EQ(gaussian_membership(1e6, 1.0, 0.3), 0.0);
   EXPECT_EQ(out[2], 1.0);
   EXPECT_EQ(out[1], 0.0);
   EXPECT_EQ(out[0], 0.0);
-  std::array<float, 3> cf{0.0f, 0.5f, 1.0f};
-  std::array<float, 3> wf{0.3f, 0.3f, 0.3f};
-  std::array<float, 3> outf{};
-  shifted_memberships<float, 3>(-1e30f, cf.data(), wf.data(), outf.data());
+  const std::array<float, 3> outf = shifted(
+      -1e30f, std::array<float, 3>{0.0f, 0.5f, 1.0f}, std::array<float, 3>{0.3f, 0.3f, 0.3f});
   for (const float v : outf) EXPECT_TRUE(std::isfinite(v));
   EXPECT_EQ(outf[0], 1.0f);
 }

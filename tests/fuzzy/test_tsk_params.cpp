@@ -28,17 +28,22 @@ TEST(TskLayout, PaperCountsAreCompileTimeConstants) {
 }
 
 TEST(TskLayout, BlocksAreContiguousAndInOrder) {
+  // Centres and widths set-major: [set][input].
   EXPECT_EQ(Paper::centre_index(0, 0), 0);
-  EXPECT_EQ(Paper::centre_index(0, 2), 2);
-  EXPECT_EQ(Paper::centre_index(1, 0), 3);
+  EXPECT_EQ(Paper::centre_index(1, 0), 1);
+  EXPECT_EQ(Paper::centre_index(0, 2), 8);
   EXPECT_EQ(Paper::centre_index(3, 2), 11);
   EXPECT_EQ(Paper::width_index(0, 0), 12);
+  EXPECT_EQ(Paper::width_index(3, 0), 15);
   EXPECT_EQ(Paper::width_index(3, 2), 23);
+  // Consequents rule-major: [rule][output][term].
   EXPECT_EQ(Paper::consequent_index(0, 0, 0), 24);
   EXPECT_EQ(Paper::consequent_index(0, 0, 4), 28);
   EXPECT_EQ(Paper::consequent_index(0, 1, 0), 29);
   EXPECT_EQ(Paper::consequent_index(0, 80, 4), 428);
-  EXPECT_EQ(PaperMulti::consequent_index(1, 0, 0), 24 + 405);
+  EXPECT_EQ(PaperMulti::kRuleBlock, 20);
+  EXPECT_EQ(PaperMulti::consequent_index(1, 0, 0), 24 + 5);
+  EXPECT_EQ(PaperMulti::consequent_index(0, 1, 0), 24 + 20);
   EXPECT_EQ(PaperMulti::consequent_index(3, 80, 4), PaperMulti::kParamCount - 1);
   // Every index is used exactly once.
   std::set<int> seen;
@@ -78,11 +83,11 @@ TEST(TskLayout, RuleDigitsHaveInputZeroMostSignificant) {
 TEST(TskParams, AccessorsAddressTheFlatBlock) {
   TskParams<double, 4, 3, 2> p;
   for (std::size_t k = 0; k < p.values.size(); ++k) p.values[k] = static_cast<double>(k);
-  EXPECT_EQ(p.centre(2, 1), 7.0);
-  EXPECT_EQ(p.width(2, 1), 19.0);
-  EXPECT_EQ(p.consequent(1, 3, 2), static_cast<double>(24 + 405 + 3 * 5 + 2));
+  EXPECT_EQ(p.centre(2, 1), 6.0);  // set 1, input 2: 1·4 + 2
+  EXPECT_EQ(p.width(2, 1), 18.0);  // 12 + 6
+  EXPECT_EQ(p.consequent(1, 3, 2), static_cast<double>(24 + (3 * 2 + 1) * 5 + 2));
   p.consequent(1, 3, 2) = -1.0;
-  EXPECT_EQ(p.values[24 + 405 + 17], -1.0);
+  EXPECT_EQ(p.values[24 + 37], -1.0);
   EXPECT_EQ(p.data(), p.values.data());
   const auto& cp = p;
   EXPECT_EQ(cp.centre(3, 2), 11.0);

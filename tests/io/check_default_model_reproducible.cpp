@@ -41,8 +41,11 @@ double largest_difference(const File& a, const File& b) {
   return worst;
 }
 
-// Tolerance 1e-6 µm: the twin, the designs and the training are deterministic; what may differ
-// across machines is the last bits of BLAS inside Ceres, which LM damps.
+// Tolerance 1e-4 µm (0.1 nm): the twin, the designs and the training are deterministic; what
+// differs between builds is round-off: Eigen's SIMD width inside Ceres (it follows -march), and
+// the summation order of the network itself when its kernel changes. LM amplifies round-off
+// rather than damping it: reordering the evaluator's sums moved the 4-input model's predictions
+// by 1.2e-5 µm. Any real change of data or method moves them by micrometres.
 TEST(DefaultModel, ScriptReproducesIt) {
   using namespace cmmcomp;
   ASSERT_FALSE(g_retrained.empty())
@@ -57,7 +60,7 @@ TEST(DefaultModel, ScriptReproducesIt) {
         EXPECT_EQ(c.training.data_file_sha256, a.training.data_file_sha256)
             << "the script's training data changed";
         const double worst = largest_difference(c, a);
-        EXPECT_LT(worst, 1e-6) << "largest prediction difference " << worst << " um";
+        EXPECT_LT(worst, 1e-4) << "largest prediction difference " << worst << " um";
       },
       committed);
 }

@@ -531,7 +531,7 @@ TEST(ModelFileGolden, CheckedInHeaderIsWhatTheExportProduces) {
 
 #ifdef CMMCOMP_HAVE_GOLDEN_HEADER
 static_assert(golden_2x3x1_model.ranges[0].lo == 10.0, "usable in constant expressions");
-static_assert(golden_2x3x1_model.params.values[3] == 0.1, "centre(1, 0)");
+static_assert(golden_2x3x1_model.params.values[1] == 0.1, "centre(1, 0): set 0, input 1");
 #endif
 
 TEST(ModelFileGolden, ConstexprModelEvaluatesBitIdentically) {

@@ -350,8 +350,10 @@ void check_gradient(std::uint64_t seed) {
   std::vector<double> premise(static_cast<std::size_t>(Residual::kPremiseSize));
   for (int i = 0; i < kI; ++i) {
     for (int s = 0; s < kS; ++s) {
-      premise[static_cast<std::size_t>(i * kS + s)] = rng.uniform(-0.2, 1.2);
-      premise[static_cast<std::size_t>(kI * kS + i * kS + s)] = rng.uniform(0.2, 0.8);
+      premise[static_cast<std::size_t>(Residual::Layout::centre_index(i, s))] =
+          rng.uniform(-0.2, 1.2);
+      premise[static_cast<std::size_t>(Residual::Layout::width_index(i, s))] =
+          rng.uniform(0.2, 0.8);
     }
   }
   std::vector<std::vector<double>> rules(static_cast<std::size_t>(Residual::kRules),

@@ -6,8 +6,9 @@
 /// No Ceres header is included: `exp` is found by argument-dependent lookup for Jet.
 #pragma once
 
-#include <array>
 #include <cmath>
+#include <cmmcomp/fuzzy/exp_nonpositive.hpp>
+#include <type_traits>
 
 namespace cmmcomp::fuzzy {
 
@@ -59,34 +60,25 @@ Scalar gaussian_exponent(const Scalar& x, const Scalar& centre, const Scalar& wi
   return -(d * d);
 }
 
-/// Gaussian membership μ = exp(−(x − c)²/σ²) (Wei et al. 2019, §4, layer 2). RT-safe.
-/// Precondition: σ > 0. The evaluator does not call this directly; it uses
-/// `shifted_memberships`, which differs from it by one constant factor per input.
+/// exp(v) for a membership exponent v <= 0: exp_nonpositive (vectorisable, same bits on every
+/// SIMD width) for double and float, the Scalar's own `exp` (found by ADL) for ceres::Jet,
+/// whose derivative part the RT path never needs. RT-safe for double and float.
 template <typename Scalar>
-Scalar gaussian_membership(const Scalar& x, const Scalar& centre, const Scalar& width) noexcept {
-  using std::exp;
-  return exp(gaussian_exponent(x, centre, width));
+Scalar membership_exp(const Scalar& v) noexcept {
+  if constexpr (std::is_floating_point_v<Scalar>) {
+    return exp_nonpositive(v);
+  } else {
+    using std::exp;
+    return exp(v);
+  }
 }
 
-/// Memberships of one input in its `kSets` sets, each divided by the largest of them:
-/// out[s] = exp(e_s − max_t e_t) with e_s = −((x − c_s)/σ_s)². The best set gets exactly 1 and
-/// every value is in [0, 1], never NaN, even when every plain membership underflows to 0 (an
-/// input far outside the sets). The common factor cancels in the normalised firing strengths,
-/// because the rule product is separable: scaling all memberships of input i by k_i scales
-/// every α_j by Π_i k_i. RT-safe. Preconditions: σ_s > 0; `centres`, `widths` and `out` hold
-/// kSets values.
-template <typename Scalar, int kSets>
-void shifted_memberships(const Scalar& x,
-                         const Scalar* centres,
-                         const Scalar* widths,
-                         Scalar* out) noexcept {
-  static_assert(kSets > 0, "at least one set per input");
-  using std::exp;
-  std::array<Scalar, kSets> e;
-  for (int s = 0; s < kSets; ++s) e[s] = gaussian_exponent(x, centres[s], widths[s]);
-  Scalar top = e[0];
-  for (int s = 1; s < kSets; ++s) top = detail::max_of(top, e[s]);
-  for (int s = 0; s < kSets; ++s) out[s] = exp(Scalar(e[s] - top));
+/// Gaussian membership μ = exp(−(x − c)²/σ²) (Wei et al. 2019, §4, layer 2). RT-safe.
+/// Precondition: σ > 0. The evaluator computes the memberships of all inputs together and
+/// shifts them per input (TskEvaluator::memberships); this is the definition they follow.
+template <typename Scalar>
+Scalar gaussian_membership(const Scalar& x, const Scalar& centre, const Scalar& width) noexcept {
+  return membership_exp(gaussian_exponent(x, centre, width));
 }
 
 }  // namespace cmmcomp::fuzzy

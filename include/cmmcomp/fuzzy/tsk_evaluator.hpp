@@ -9,18 +9,29 @@
 /// kOutputs = 1 is the paper's form (one network per error parameter); kOutputs = 4 evaluates
 /// MPE, RPE, MAE and RAE from one premise in one pass.
 ///
-/// How it is computed (same result, fewer operations, no NaN):
-///  - memberships are shifted per input so the best set of each input is exactly 1
-///    (`shifted_memberships`); the factor cancels in ᾱ because the rule product is separable.
-///    Hence the best rule has α = 1, Σα ≥ 1, and the normalisation never divides by 0 or
-///    produces 0/0, however far outside the sets an input lies;
+/// How it is computed (same result, fewer operations, no NaN, vectorisable without -ffast-math):
+///  - the exponents of all memberships are formed set by set, all inputs at once (centres and
+///    widths are stored set-major, tsk_params.hpp); each input's exponents are shifted by their
+///    maximum, so that its best set gets exactly 1. The factor cancels in ᾱ because the rule
+///    product is separable. Hence the best rule has α = 1, Σα ≥ 1, and the normalisation never
+///    divides by 0 or produces 0/0, however far outside the sets an input lies;
+///  - exp is `exp_nonpositive` (exp_nonpositive.hpp): vectorisable, within 2 ulp;
 ///  - Σα = Π_i Σ_s μ_is (separable too), so the firing strengths need not be summed;
-///  - the consequent sums t_ok = Σ_j α_j p_ojk are computed without forming α: the consequent
-///    block of each output is a tensor [s_0][s_1]…[s_{n−1}][k] (rule numbering, input 0 most
-///    significant), contracted with the memberships of input 0, then input 1, and so on. Each
-///    stage is an element-wise weighted sum of kSets contiguous slices, which the compiler
-///    vectorises without -ffast-math; then y_o = (t_o0 + Σ_i x_i t_o,1+i)/Σα.
-///    `firing` builds the α_j explicitly (successive outer products) for inspection.
+///  - the consequent sums t_ok = Σ_j α_j p_jok take one of two routes, chosen at compile time
+///    by the size of one rule's consequent block, kOutputs·(kInputs+1) (tsk_params.hpp stores
+///    them rule-major, so that block is contiguous):
+///    - a multiple of 4 (the paper's 4-output network: 20): `sum_by_rule`. α is built as a grid
+///      α[p][q] = A_p·B_q (A over the first half of the inputs, the rule number's high digits,
+///      B over the rest), then each rule adds α_j times its block into two accumulators (even
+///      and odd rules, to halve the add chains). That is the minimum work for dense
+///      consequents: each is read once and used in one multiply-add, 1620 for the paper's;
+///    - otherwise (one output: 5 values a rule, which would not fill vectors): `sum_by_contraction`
+///      contracts the consequent tensor [s_0]…[s_{n−1}][block] with the memberships of one
+///      input at a time, each stage an element-wise weighted sum of contiguous slices;
+///  - then y_o = (t_o0 + Σ_i x_i t_o,1+i)/Σα.
+/// The order of every floating-point operation is fixed by the source (no reductions left to the
+/// compiler), so scalar and SIMD builds of any width give the same bits (with FMA contraction
+/// off, as cmmcomp::core sets it).
 ///
 /// `TskEvaluator<Scalar, …>::forward` is the single implementation of the math: `evaluate`
 /// runs it with double or float, training runs it with ceres::Jet (this header includes no
@@ -32,6 +43,7 @@
 #include <cmmcomp/fuzzy/membership.hpp>
 #include <cmmcomp/fuzzy/tsk_params.hpp>
 #include <cmmcomp/status.hpp>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <type_traits>
@@ -60,47 +72,32 @@ class TskEvaluator {
   using Memberships = std::array<std::array<Scalar, kSets>, kInputs>;  ///< [input][set]
 
   /// Memberships of every input in every set, shifted per input so that the best set of each
-  /// input is exactly 1 (`shifted_memberships`); returns Σ_j α_j = Π_i Σ_s μ_is, in
-  /// [1, kRules]. RT-safe for floating-point Scalars. Preconditions: `params` holds kParamCount
-  /// values (layout in tsk_params.hpp), widths > 0.
+  /// input is exactly 1: μ_is = exp(e_is − max_t e_it) with e_is = −((x_i − c_is)/σ_is)²;
+  /// returns Σ_j α_j = Π_i Σ_s μ_is, in [1, kRules]. Every value is in [0, 1], never NaN, even
+  /// when every plain membership of an input underflows (an input far outside its sets). For
+  /// inspection and tests; `forward` computes the same values in its own (set-major) order.
+  /// RT-safe for floating-point Scalars. Preconditions: `params` holds kParamCount values
+  /// (layout in tsk_params.hpp), widths > 0.
   static Scalar memberships(const Scalar* params, const Input& x, Memberships& mu) noexcept {
-    Scalar total = Scalar(1.0);
+    SetMajor m;
+    const Scalar total = premise(params, x, m);
     for (int i = 0; i < kInputs; ++i) {
-      std::array<Scalar, kSets>& m = mu[static_cast<unsigned>(i)];
-      shifted_memberships<Scalar, kSets>(x[static_cast<unsigned>(i)],
-                                         params + Layout::centre_index(i, 0),
-                                         params + Layout::width_index(i, 0),
-                                         m.data());
-      Scalar sum = m[0];
-      for (int s = 1; s < kSets; ++s) sum += m[static_cast<unsigned>(s)];
-      total *= sum;
+      for (int s = 0; s < kSets; ++s) mu[u(i)][u(s)] = m[u(s)][u(i)];
     }
     return total;
   }
 
   /// Firing strengths α_j of every rule (numbering in tsk_params.hpp) for normalised inputs
   /// `x`, scaled so that the best rule has α = 1; returns Σ_j α_j, in [1, kRules]. Divide by it
-  /// for the normalised strengths ᾱ_j. Not used by `forward`; for inspection and training.
+  /// for the normalised strengths ᾱ_j. Used by training for its design matrix and by tests.
   /// RT-safe for floating-point Scalars. Preconditions as `memberships`.
   static Scalar firing(const Scalar* params, const Input& x, Firing& alpha) noexcept {
-    Memberships mu;
-    const Scalar total = memberships(params, x, mu);
-    // Outer products from the last input (least significant digit) to input 0: after input i,
-    // alpha[0, n) holds the products over inputs i..kInputs-1, indexed by their digits.
-    const std::array<Scalar, kSets>& last = mu[static_cast<unsigned>(kInputs - 1)];
-    for (int s = 0; s < kSets; ++s)
-      alpha[static_cast<unsigned>(s)] = last[static_cast<unsigned>(s)];
-    int n = kSets;
-    for (int i = kInputs - 2; i >= 0; --i) {
-      const std::array<Scalar, kSets>& m = mu[static_cast<unsigned>(i)];
-      for (int s = kSets - 1; s >= 1; --s) {  // blocks s >= 1 do not overlap alpha[0, n)
-        const Scalar ms = m[static_cast<unsigned>(s)];
-        Scalar* dst = alpha.data() + s * n;
-        for (int k = 0; k < n; ++k) dst[k] = ms * alpha[static_cast<unsigned>(k)];
-      }
-      const Scalar m0 = m[0];
-      for (int k = 0; k < n; ++k) alpha[static_cast<unsigned>(k)] *= m0;
-      n *= kSets;
+    SetMajor m;
+    const Scalar total = premise(params, x, m);
+    Grid grid;
+    firing_grid(m, grid);
+    for (int p = 0; p < kRows; ++p) {
+      for (int q = 0; q < kCols; ++q) alpha[u(p * kCols + q)] = grid[u(p)][u(q)];
     }
     return total;
   }
@@ -112,58 +109,152 @@ class TskEvaluator {
   /// tsk_params.hpp), widths > 0.
   static void forward(const Scalar* params, const Input& x, Output& y) noexcept {
     constexpr int kTerms = Layout::kTerms;
-    constexpr int kBlock = Layout::kConsequentBlock;
-    // Contracted consequents after input 0, and after input 1 (later stages reuse the two).
-    constexpr int kStage0 = kOutputs * (kBlock / kSets);
-    constexpr int kStage1 = kInputs > 1 ? kStage0 / kSets : 1;
+    SetMajor m;
+    const Scalar total = premise(params, x, m);
+    Block t;  // t_ok = Σ_j α_j p_jok
+    if constexpr (kBlock % 4 == 0) {
+      sum_by_rule(params + Layout::kConsequentsOffset, m, t);
+    } else {
+      sum_by_contraction(params + Layout::kConsequentsOffset, m, t);
+    }
+    const Scalar inv_total = Scalar(1.0) / total;
+    for (int o = 0; o < kOutputs; ++o) {
+      const int first = o * kTerms;
+      Scalar sum = t[u(first)];
+      for (int i = 0; i < kInputs; ++i) sum += x[u(i)] * t[u(first + 1 + i)];
+      y[u(o)] = sum * inv_total;
+    }
+  }
 
-    Memberships mu;
-    const Scalar total = memberships(params, x, mu);
+ private:
+  /// Memberships in the evaluator's order, [set][input]: one set of every input together.
+  using SetMajor = std::array<std::array<Scalar, kInputs>, kSets>;
+  /// The rule number's digits split in two: inputs [0, kHead) give the row p of the firing grid
+  /// (high digits), inputs [kHead, kInputs) its column q (low digits); rule j = p·kCols + q.
+  static constexpr int kHead = kInputs / 2;
+  static constexpr int kRows = detail::checked_pow(kSets, kHead);
+  static constexpr int kCols = detail::checked_pow(kSets, kInputs - kHead);
+  static constexpr int kColsPadded = (kCols + 3) / 4 * 4;  // whole 4-lane vectors per row
+  using Grid = std::array<std::array<Scalar, kColsPadded>, kRows>;
+  /// Consequents of one rule, every output: kOutputs·(kInputs + 1), contiguous.
+  static constexpr int kBlock = Layout::kRuleBlock;
+  using Block = std::array<Scalar, kBlock>;
 
-    // Σ_j α_j p_ojk = Σ_s0 μ_0,s0 Σ_s1 μ_1,s1 … p_o,(s0 s1 …),k: contract the consequent tensor
-    // [o][s0]…[s_{n-1}][k] one input at a time, most significant digit first. Each stage is an
-    // element-wise weighted sum of kSets contiguous slices (vectorisable, no reduction chain).
-    std::array<Scalar, kStage0> a;
-    std::array<Scalar, kStage1> b;
-    {
-      constexpr int n = kBlock / kSets;  // slice length after input 0, per output
-      const std::array<Scalar, kSets>& m = mu[0];
-      for (int o = 0; o < kOutputs; ++o) {
-        const Scalar* src = params + Layout::kConsequentsOffset + o * kBlock;
-        Scalar* dst = a.data() + o * n;
-        for (int e = 0; e < n; ++e) {
-          Scalar sum = m[0] * src[e];
-          for (int s = 1; s < kSets; ++s) sum += m[static_cast<unsigned>(s)] * src[s * n + e];
-          dst[e] = sum;
-        }
+  static constexpr unsigned u(int i) noexcept { return static_cast<unsigned>(i); }
+
+  /// Shifted memberships m[s][i] (see `memberships`) and Σα. Each loop runs over whole
+  /// set-major rows, so it vectorises across the inputs.
+  static Scalar premise(const Scalar* params, const Input& x, SetMajor& m) noexcept {
+    const Scalar* centres = params + Layout::kCentresOffset;
+    const Scalar* widths = params + Layout::kWidthsOffset;
+    SetMajor e;
+    for (int s = 0; s < kSets; ++s) {
+      for (int i = 0; i < kInputs; ++i) {
+        const int k = s * kInputs + i;
+        e[u(s)][u(i)] = gaussian_exponent(x[u(i)], centres[k], widths[k]);
       }
     }
-    const Scalar* src = a.data();
-    int n = kBlock / kSets;
-    for (int i = 1; i < kInputs; ++i) {
-      const std::array<Scalar, kSets>& m = mu[static_cast<unsigned>(i)];
-      Scalar* dst = (i % 2 == 1) ? b.data() : a.data();
+    Input top = e[0];
+    for (int s = 1; s < kSets; ++s) {
+      for (int i = 0; i < kInputs; ++i) top[u(i)] = detail::max_of(top[u(i)], e[u(s)][u(i)]);
+    }
+    for (int s = 0; s < kSets; ++s) {
+      for (int i = 0; i < kInputs; ++i) {
+        m[u(s)][u(i)] = membership_exp(Scalar(e[u(s)][u(i)] - top[u(i)]));
+      }
+    }
+    Input sum = m[0];
+    for (int s = 1; s < kSets; ++s) {
+      for (int i = 0; i < kInputs; ++i) sum[u(i)] += m[u(s)][u(i)];
+    }
+    Scalar total = sum[0];
+    for (int i = 1; i < kInputs; ++i) total *= sum[u(i)];
+    return total;
+  }
+
+  /// out[0, kSets^(last − first)) = the products Π_{first <= i < last} m[s_i][i], indexed by the
+  /// digits s_first … s_{last−1} (s_first most significant). Successive outer products from
+  /// input last − 1 down to first.
+  template <std::size_t kSize>
+  static void outer_product(const SetMajor& m,
+                            int first,
+                            int last,
+                            std::array<Scalar, kSize>& out) noexcept {
+    out[0] = Scalar(1.0);
+    int n = 1;
+    for (int i = last - 1; i >= first; --i) {
+      for (int s = kSets - 1; s >= 1; --s) {  // blocks s >= 1 do not overlap out[0, n)
+        const Scalar ms = m[u(s)][u(i)];
+        for (int k = 0; k < n; ++k) out[u(s * n + k)] = ms * out[u(k)];
+      }
+      const Scalar m0 = m[0][u(i)];
+      for (int k = 0; k < n; ++k) out[u(k)] *= m0;
+      n *= kSets;
+    }
+  }
+
+  /// t = Σ_j α_j p_j·, one rule at a time: for each rule, kBlock independent multiply-adds of
+  /// its (broadcast) α with its contiguous consequents. 1620 multiply-adds for the paper's
+  /// 4-output network, the minimum; used when kBlock fills whole 4-lane vectors.
+  static void sum_by_rule(const Scalar* consequents, const SetMajor& m, Block& t) noexcept {
+    Grid grid;
+    firing_grid(m, grid);
+    // Even and odd columns into separate accumulators: two add chains of half the length.
+    Block even{};
+    Block odd{};
+    const Scalar* rule = consequents;
+    for (int p = 0; p < kRows; ++p) {
+      const std::array<Scalar, kColsPadded>& row = grid[u(p)];
+      int q = 0;
+      for (; q + 1 < kCols; q += 2, rule += 2 * kBlock) {
+        const Scalar a0 = row[u(q)];
+        const Scalar a1 = row[u(q + 1)];
+        for (int k = 0; k < kBlock; ++k) even[u(k)] += a0 * rule[k];
+        for (int k = 0; k < kBlock; ++k) odd[u(k)] += a1 * rule[kBlock + k];
+      }
+      if (q < kCols) {  // kCols odd: its last column (the same branch every call)
+        const Scalar a0 = row[u(q)];
+        for (int k = 0; k < kBlock; ++k) even[u(k)] += a0 * rule[k];
+        rule += kBlock;
+      }
+    }
+    for (int k = 0; k < kBlock; ++k) t[u(k)] = even[u(k)] + odd[u(k)];
+  }
+
+  /// t = Σ_j α_j p_j·, without forming α: the consequent block is the tensor
+  /// [s_0][s_1]…[s_{n−1}][kBlock] (rule-major, input 0 most significant), contracted with the
+  /// memberships of input 0, then input 1, and so on. Each stage is an element-wise weighted sum
+  /// of kSets contiguous slices, which vectorises whatever kBlock is: used when a rule's block
+  /// does not fill whole vectors (one output: 5 values a rule), where `sum_by_rule` would
+  /// shuffle. 2400 multiply-adds for the 4-output network, 600 for one output.
+  static void sum_by_contraction(const Scalar* consequents, const SetMajor& m, Block& t) noexcept {
+    constexpr int kStage0 = kRules / kSets * kBlock;  // after input 0
+    constexpr int kStage1 = kInputs > 1 ? kStage0 / kSets : 1;
+    std::array<Scalar, kStage0> a;
+    std::array<Scalar, kStage1> b;
+    const Scalar* src = consequents;
+    int n = kRules * kBlock;
+    for (int i = 0; i < kInputs; ++i) {
       const int next = n / kSets;
-      for (int o = 0; o < kOutputs; ++o) {
-        const Scalar* so = src + o * n;
-        Scalar* d = dst + o * next;
-        for (int e = 0; e < next; ++e) {
-          Scalar sum = m[0] * so[e];
-          for (int s = 1; s < kSets; ++s) sum += m[static_cast<unsigned>(s)] * so[s * next + e];
-          d[e] = sum;
-        }
+      Scalar* dst = i == kInputs - 1 ? t.data() : (i % 2 == 0 ? a.data() : b.data());
+      for (int e = 0; e < next; ++e) {
+        Scalar sum = m[0][u(i)] * src[e];
+        for (int s = 1; s < kSets; ++s) sum += m[u(s)][u(i)] * src[s * next + e];
+        dst[e] = sum;
       }
       src = dst;
       n = next;
     }
+  }
 
-    // src now holds t_ok = Σ_j α_j p_ojk, kTerms per output: y_o = (t_o0 + Σ_i x_i t_o,1+i)/Σα.
-    const Scalar inv_total = Scalar(1.0) / total;
-    for (int o = 0; o < kOutputs; ++o) {
-      const Scalar* t = src + o * kTerms;
-      Scalar sum = t[0];
-      for (int i = 0; i < kInputs; ++i) sum += x[static_cast<unsigned>(i)] * t[i + 1];
-      y[static_cast<unsigned>(o)] = sum * inv_total;
+  /// grid[p][q] = α of rule p·kCols + q; the padding columns are 0.
+  static void firing_grid(const SetMajor& m, Grid& grid) noexcept {
+    std::array<Scalar, kRows> head;
+    std::array<Scalar, kColsPadded> tail{};
+    outer_product(m, 0, kHead, head);
+    outer_product(m, kHead, kInputs, tail);
+    for (int p = 0; p < kRows; ++p) {
+      for (int q = 0; q < kColsPadded; ++q) grid[u(p)][u(q)] = head[u(p)] * tail[u(q)];
     }
   }
 };

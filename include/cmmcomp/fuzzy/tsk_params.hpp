@@ -5,14 +5,23 @@
 /// consume it as one parameter block and a model file can store it as one array:
 ///
 ///     offset                                  contents                       shape
-///     0                                       centres c                      [kInputs][kSets]
-///     kInputs·kSets                           widths σ                       [kInputs][kSets]
-///     2·kInputs·kSets                         consequents p [kOutputs][kRules][kInputs+1]
+///     0                                       centres c                      [kSets][kInputs]
+///     kInputs·kSets                           widths σ                       [kSets][kInputs]
+///     2·kInputs·kSets                         consequents p [kRules][kOutputs][kInputs+1]
 ///     kParamCount = 2·kInputs·kSets + kOutputs·kRules·(kInputs+1)
 ///
 /// All arrays are row-major (last index fastest). Consequent term 0 of a rule is its constant
 /// p_j0; term 1 + i multiplies normalised input i (y_j = p_j0 + Σ_i p_j,1+i x_i). Centres and
 /// widths live in normalised input units (the training range maps onto [0, 1]).
+///
+/// Why this order: it is the order the real-time evaluator reads (tsk_evaluator.hpp). Set-major
+/// centres and widths put one set of every input in contiguous memory, so the memberships of
+/// all inputs are computed as a few whole SIMD vectors; rule-major consequents put everything
+/// one rule contributes to every output in kOutputs·(kInputs+1) contiguous values, so the
+/// consequent sums are one pass of independent multiply-adds over the block. Code outside the
+/// evaluator addresses the block through `centre_index`, `width_index` and `consequent_index`
+/// (or the TskParams accessors) and never assumes the order; the model file stores nested
+/// arrays, not this block (docs/model-file.md), so the order is not part of any file format.
 ///
 /// Rule numbering: rule j fires on one set per input; the set of input i is digit i of j
 /// written in base kSets with **input 0 the most significant digit**:
@@ -59,21 +68,23 @@ struct TskLayout {
   static constexpr int kConsequentsOffset = 2 * kInputs * kSets;  ///< first consequent
   /// Consequent values of one output, kRules·kTerms.
   static constexpr int kConsequentBlock = kRules * kTerms;
+  /// Consequent values of one rule, all outputs: kOutputs·kTerms (contiguous).
+  static constexpr int kRuleBlock = kOutputs * kTerms;
   /// Total number of parameters: 2·kInputs·kSets + kOutputs·kRules·(kInputs + 1).
   static constexpr int kParamCount = kConsequentsOffset + kOutputs * kConsequentBlock;
 
   /// Flat index of the centre of set `set` of input `input`.
   static constexpr int centre_index(int input, int set) noexcept {
-    return kCentresOffset + input * kSets + set;
+    return kCentresOffset + set * kInputs + input;
   }
   /// Flat index of the width σ of set `set` of input `input`.
   static constexpr int width_index(int input, int set) noexcept {
-    return kWidthsOffset + input * kSets + set;
+    return kWidthsOffset + set * kInputs + input;
   }
   /// Flat index of consequent term `term` (0 = constant, 1 + i = coefficient of input i) of
   /// rule `rule` for output `output`.
   static constexpr int consequent_index(int output, int rule, int term) noexcept {
-    return kConsequentsOffset + (output * kRules + rule) * kTerms + term;
+    return kConsequentsOffset + (rule * kOutputs + output) * kTerms + term;
   }
   /// The set rule `rule` uses for input `input`: digit `input` of `rule` in base kSets, input 0
   /// being the most significant digit.
