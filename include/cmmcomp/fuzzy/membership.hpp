@@ -60,6 +60,17 @@ Scalar gaussian_exponent(const Scalar& x, const Scalar& centre, const Scalar& wi
   return -(d * d);
 }
 
+/// The same exponent from the reciprocal width 1/σ: −((x − c)·(1/σ))², saturated alike. The
+/// evaluator's form (a multiply instead of a divide on the input's path). RT-safe.
+template <typename Scalar>
+Scalar gaussian_exponent_scaled(const Scalar& x,
+                                const Scalar& centre,
+                                const Scalar& inv_width) noexcept {
+  const Scalar bound = static_cast<Scalar>(kMaxNormalisedDistance);
+  const Scalar d = detail::clamp_of(Scalar((x - centre) * inv_width), Scalar(-bound), bound);
+  return -(d * d);
+}
+
 /// exp(v) for a membership exponent v <= 0: exp_nonpositive (vectorisable, same bits on every
 /// SIMD width) for double and float, the Scalar's own `exp` (found by ADL) for ceres::Jet,
 /// whose derivative part the RT path never needs. RT-safe for double and float.

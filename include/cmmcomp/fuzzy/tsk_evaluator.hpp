@@ -20,11 +20,11 @@
 ///  - the consequent sums t_ok = Σ_j α_j p_jok take one of two routes, chosen at compile time
 ///    by the size of one rule's consequent block, kOutputs·(kInputs+1) (tsk_params.hpp stores
 ///    them rule-major, so that block is contiguous):
-///    - a multiple of 4 (the paper's 4-output network: 20): `sum_by_rule`. α is built as a grid
-///      α[p][q] = A_p·B_q (A over the first half of the inputs, the rule number's high digits,
-///      B over the rest), then each rule adds α_j times its block into two accumulators (even
-///      and odd rules, to halve the add chains). That is the minimum work for dense
-///      consequents: each is read once and used in one multiply-add, 1620 for the paper's;
+///    - a multiple of 4 (the paper's 4-output network: 20): `sum_by_rule`. α is built as
+///      α_j = A_p·B_q for rule j = p·|B| + q (A over the first half of the inputs, the rule
+///      number's high digits, B over the rest), then each rule adds α_j times its block into two
+///      accumulators (even and odd rules, to halve the add chains). That is the minimum work for
+///      dense consequents: each is read once and used in one multiply-add, 1620 for the paper's;
 ///    - otherwise (one output: 5 values a rule, which would not fill vectors): `sum_by_contraction`
 ///      contracts the consequent tensor [s_0]…[s_{n−1}][block] with the memberships of one
 ///      input at a time, each stage an element-wise weighted sum of contiguous slices;
@@ -94,11 +94,7 @@ class TskEvaluator {
   static Scalar firing(const Scalar* params, const Input& x, Firing& alpha) noexcept {
     SetMajor m;
     const Scalar total = premise(params, x, m);
-    Grid grid;
-    firing_grid(m, grid);
-    for (int p = 0; p < kRows; ++p) {
-      for (int q = 0; q < kCols; ++q) alpha[u(p * kCols + q)] = grid[u(p)][u(q)];
-    }
+    outer_product(m, 0, kInputs, alpha);
     return total;
   }
 
@@ -129,13 +125,11 @@ class TskEvaluator {
  private:
   /// Memberships in the evaluator's order, [set][input]: one set of every input together.
   using SetMajor = std::array<std::array<Scalar, kInputs>, kSets>;
-  /// The rule number's digits split in two: inputs [0, kHead) give the row p of the firing grid
+  /// The rule number's digits split in two: inputs [0, kHead) give the factor index p of α
   /// (high digits), inputs [kHead, kInputs) its column q (low digits); rule j = p·kCols + q.
   static constexpr int kHead = kInputs / 2;
   static constexpr int kRows = detail::checked_pow(kSets, kHead);
   static constexpr int kCols = detail::checked_pow(kSets, kInputs - kHead);
-  static constexpr int kColsPadded = (kCols + 3) / 4 * 4;  // whole 4-lane vectors per row
-  using Grid = std::array<std::array<Scalar, kColsPadded>, kRows>;
   /// Consequents of one rule, every output: kOutputs·(kInputs + 1), contiguous.
   static constexpr int kBlock = Layout::kRuleBlock;
   using Block = std::array<Scalar, kBlock>;
@@ -173,23 +167,27 @@ class TskEvaluator {
   }
 
   /// out[0, kSets^(last − first)) = the products Π_{first <= i < last} m[s_i][i], indexed by the
-  /// digits s_first … s_{last−1} (s_first most significant). Successive outer products from
-  /// input last − 1 down to first.
+  /// digits s_first … s_{last−1} (s_first most significant). Each product is formed on its own
+  /// (compile-time digits once unrolled), so no value is stored and read back while building.
   template <std::size_t kSize>
   static void outer_product(const SetMajor& m,
                             int first,
                             int last,
                             std::array<Scalar, kSize>& out) noexcept {
-    out[0] = Scalar(1.0);
-    int n = 1;
-    for (int i = last - 1; i >= first; --i) {
-      for (int s = kSets - 1; s >= 1; --s) {  // blocks s >= 1 do not overlap out[0, n)
-        const Scalar ms = m[u(s)][u(i)];
-        for (int k = 0; k < n; ++k) out[u(s * n + k)] = ms * out[u(k)];
+    int size = 1;
+    for (int i = first; i < last; ++i) size *= kSets;
+    if (first == last) {
+      out[0] = Scalar(1.0);
+      return;
+    }
+    for (int k = 0; k < size; ++k) {
+      int code = k;
+      Scalar product = m[u(code % kSets)][u(last - 1)];
+      for (int i = last - 2; i >= first; --i) {
+        code /= kSets;
+        product *= m[u(code % kSets)][u(i)];
       }
-      const Scalar m0 = m[0][u(i)];
-      for (int k = 0; k < n; ++k) out[u(k)] *= m0;
-      n *= kSets;
+      out[u(k)] = product;
     }
   }
 
@@ -197,26 +195,30 @@ class TskEvaluator {
   /// its (broadcast) α with its contiguous consequents. 1620 multiply-adds for the paper's
   /// 4-output network, the minimum; used when kBlock fills whole 4-lane vectors.
   static void sum_by_rule(const Scalar* consequents, const SetMajor& m, Block& t) noexcept {
-    Grid grid;
-    firing_grid(m, grid);
-    // Even and odd columns into separate accumulators: two add chains of half the length.
+    // α_j = head_p · tail_q for rule j = p·kCols + q (head over the first half of the inputs,
+    // tail over the rest): one multiply per rule after 2·√kRules small products.
+    std::array<Scalar, kRows> head;
+    std::array<Scalar, kCols> tail;
+    outer_product(m, 0, kHead, head);
+    outer_product(m, kHead, kInputs, tail);
+    std::array<Scalar, kRules> alpha;
+    for (int p = 0; p < kRows; ++p) {
+      for (int q = 0; q < kCols; ++q) alpha[u(p * kCols + q)] = head[u(p)] * tail[u(q)];
+    }
+    // Even and odd rules into separate accumulators: two add chains of half the length.
     Block even{};
     Block odd{};
     const Scalar* rule = consequents;
-    for (int p = 0; p < kRows; ++p) {
-      const std::array<Scalar, kColsPadded>& row = grid[u(p)];
-      int q = 0;
-      for (; q + 1 < kCols; q += 2, rule += 2 * kBlock) {
-        const Scalar a0 = row[u(q)];
-        const Scalar a1 = row[u(q + 1)];
-        for (int k = 0; k < kBlock; ++k) even[u(k)] += a0 * rule[k];
-        for (int k = 0; k < kBlock; ++k) odd[u(k)] += a1 * rule[kBlock + k];
-      }
-      if (q < kCols) {  // kCols odd: its last column (the same branch every call)
-        const Scalar a0 = row[u(q)];
-        for (int k = 0; k < kBlock; ++k) even[u(k)] += a0 * rule[k];
-        rule += kBlock;
-      }
+    int j = 0;
+    for (; j + 1 < kRules; j += 2, rule += 2 * kBlock) {
+      const Scalar a0 = alpha[u(j)];
+      const Scalar a1 = alpha[u(j + 1)];
+      for (int k = 0; k < kBlock; ++k) even[u(k)] += a0 * rule[k];
+      for (int k = 0; k < kBlock; ++k) odd[u(k)] += a1 * rule[kBlock + k];
+    }
+    if (j < kRules) {  // kRules odd: the last rule
+      const Scalar a0 = alpha[u(j)];
+      for (int k = 0; k < kBlock; ++k) even[u(k)] += a0 * rule[k];
     }
     for (int k = 0; k < kBlock; ++k) t[u(k)] = even[u(k)] + odd[u(k)];
   }
@@ -244,17 +246,6 @@ class TskEvaluator {
       }
       src = dst;
       n = next;
-    }
-  }
-
-  /// grid[p][q] = α of rule p·kCols + q; the padding columns are 0.
-  static void firing_grid(const SetMajor& m, Grid& grid) noexcept {
-    std::array<Scalar, kRows> head;
-    std::array<Scalar, kColsPadded> tail{};
-    outer_product(m, 0, kHead, head);
-    outer_product(m, kHead, kInputs, tail);
-    for (int p = 0; p < kRows; ++p) {
-      for (int q = 0; q < kColsPadded; ++q) grid[u(p)][u(q)] = head[u(p)] * tail[u(q)];
     }
   }
 };
@@ -308,6 +299,8 @@ template <typename Scalar, int kInputs, int kSets, int kOutputs>
       policy != DomainPolicy::kReject) {
     return Status::kInvalidInput;
   }
+  // Branch-free over the inputs (one SIMD pass where the compiler can): v − v is 0 exactly
+  // when v is finite, NaN otherwise.
   const bool clamp = policy == DomainPolicy::kClamp;
   bool finite = true;
   std::uint32_t mask = 0;
@@ -316,10 +309,10 @@ template <typename Scalar, int kInputs, int kSets, int kOutputs>
     const auto u = static_cast<unsigned>(i);
     const InputRange& r = model.ranges[u];
     const double v = x[u];
-    finite = finite && std::isfinite(v);
+    finite &= (v - v) == 0.0;
     const bool below = v < r.lo;
     const bool above = v > r.hi;
-    mask |= static_cast<std::uint32_t>(below || above) << u;
+    mask |= static_cast<std::uint32_t>(below | above) << u;
     const double inside = below ? r.lo : (above ? r.hi : v);
     xn[u] = static_cast<Scalar>(normalise(clamp ? inside : v, r));
   }
@@ -329,8 +322,10 @@ template <typename Scalar, int kInputs, int kSets, int kOutputs>
 
   typename Evaluator::Output out;
   Evaluator::forward(model.params.data(), xn, out);
-  for (int o = 0; o < kOutputs; ++o)
-    finite = finite && std::isfinite(out[static_cast<unsigned>(o)]);
+  for (int o = 0; o < kOutputs; ++o) {
+    const Scalar v = out[static_cast<unsigned>(o)];
+    finite &= (v - v) == Scalar(0);
+  }
   if (!finite) return Status::kInvalidInput;
   for (int o = 0; o < kOutputs; ++o) {
     y[static_cast<unsigned>(o)] = static_cast<double>(out[static_cast<unsigned>(o)]);
