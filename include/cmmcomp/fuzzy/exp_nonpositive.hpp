@@ -28,6 +28,44 @@
 
 namespace cmmcomp::fuzzy {
 
+namespace detail {
+
+/// The IEEE-754 binary layout of Float: an integer of the same size, the significand's width
+/// and the exponent bias.
+template <typename Float>
+struct FloatBits;
+template <>
+struct FloatBits<double> {
+  using Int = std::int64_t;
+  static constexpr int kSignificandBits = 52;
+  static constexpr Int kBias = 1023;
+};
+template <>
+struct FloatBits<float> {
+  using Int = std::int32_t;
+  static constexpr int kSignificandBits = 23;
+  static constexpr Int kBias = 127;
+};
+
+/// p·2^k, where t = round + k came out of the rounding step (round = 1.5·2^significand_bits, so
+/// k is the low bits of t's significand): k + bias is written into the exponent field of the
+/// scale. Precondition: k + bias in [1, 2·bias] (a normal scale).
+template <typename Float>
+inline Float times_power_of_two(Float p, Float t, Float round) noexcept {
+  using Bits = FloatBits<Float>;
+  typename Bits::Int t_bits = 0;
+  typename Bits::Int round_bits = 0;
+  std::memcpy(&t_bits, &t, sizeof t);
+  std::memcpy(&round_bits, &round, sizeof round);
+  const typename Bits::Int scale_bits = (t_bits - round_bits + Bits::kBias)
+                                        << Bits::kSignificandBits;
+  Float scale = 0;
+  std::memcpy(&scale, &scale_bits, sizeof scale);
+  return p * scale;
+}
+
+}  // namespace detail
+
 /// exp(v) for v <= 0 (and v = -0): the double result within 2 ulp, 0 for v < -708 (where
 /// exp(v) < 3.3e-308, below the smallest normal double). RT-safe, branch-free. NaN is not an
 /// accepted input (the evaluator never passes one).
@@ -61,15 +99,7 @@ inline double exp_nonpositive(double v) noexcept {
   const double w0 = u0 + u1 * r4;
   const double w1 = u2 + q6 * r4;
   const double p = w0 + w1 * r8;
-  // 2^k: k is the low bits of t's significand; put k + 1023 in the exponent field.
-  std::int64_t t_bits = 0;
-  std::int64_t round_bits = 0;
-  std::memcpy(&t_bits, &t, sizeof t);
-  std::memcpy(&round_bits, &kRound, sizeof kRound);
-  const std::int64_t scale_bits = (t_bits - round_bits + 1023) << 52;
-  double scale = 0;
-  std::memcpy(&scale, &scale_bits, sizeof scale);
-  return v > kLowest ? p * scale : 0.0;
+  return v > kLowest ? detail::times_power_of_two(p, t, kRound) : 0.0;
 #endif
 }
 
@@ -96,14 +126,7 @@ inline float exp_nonpositive(float v) noexcept {
   const float q2 = 1.0f / 24 + r * (1.0f / 120);
   const float q3 = 1.0f / 720 + r * (1.0f / 5040);
   const float p = (q0 + q1 * r2) + (q2 + q3 * r2) * r4;
-  std::int32_t t_bits = 0;
-  std::int32_t round_bits = 0;
-  std::memcpy(&t_bits, &t, sizeof t);
-  std::memcpy(&round_bits, &kRound, sizeof kRound);
-  const std::int32_t scale_bits = (t_bits - round_bits + 127) << 23;
-  float scale = 0;
-  std::memcpy(&scale, &scale_bits, sizeof scale);
-  return v > kLowest ? p * scale : 0.0f;
+  return v > kLowest ? detail::times_power_of_two(p, t, kRound) : 0.0f;
 #endif
 }
 

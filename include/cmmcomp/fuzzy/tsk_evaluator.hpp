@@ -94,7 +94,7 @@ class TskEvaluator {
   static Scalar firing(const Scalar* params, const Input& x, Firing& alpha) noexcept {
     SetMajor m;
     const Scalar total = premise(params, x, m);
-    outer_product(m, 0, kInputs, alpha);
+    outer_product<0, kInputs>(m, alpha);
     return total;
   }
 
@@ -166,28 +166,27 @@ class TskEvaluator {
     return total;
   }
 
-  /// out[0, kSets^(last − first)) = the products Π_{first <= i < last} m[s_i][i], indexed by the
-  /// digits s_first … s_{last−1} (s_first most significant). Each product is formed on its own
-  /// (compile-time digits once unrolled), so no value is stored and read back while building.
-  template <std::size_t kSize>
-  static void outer_product(const SetMajor& m,
-                            int first,
-                            int last,
-                            std::array<Scalar, kSize>& out) noexcept {
-    int size = 1;
-    for (int i = first; i < last; ++i) size *= kSets;
-    if (first == last) {
+  /// out[0, kSets^(kLast − kFirst)) = the products Π_{kFirst <= i < kLast} m[s_i][i], indexed by
+  /// the digits s_kFirst … s_{kLast−1} (s_kFirst most significant); 1 for an empty range. Each
+  /// product is formed on its own (compile-time digits once unrolled), so no value is stored and
+  /// read back while building.
+  template <int kFirst, int kLast>
+  static void outer_product(
+      const SetMajor& m,
+      std::array<Scalar, static_cast<std::size_t>(detail::checked_pow(kSets, kLast - kFirst))>&
+          out) noexcept {
+    if constexpr (kFirst == kLast) {
       out[0] = Scalar(1.0);
-      return;
-    }
-    for (int k = 0; k < size; ++k) {
-      int code = k;
-      Scalar product = m[u(code % kSets)][u(last - 1)];
-      for (int i = last - 2; i >= first; --i) {
-        code /= kSets;
-        product *= m[u(code % kSets)][u(i)];
+    } else {
+      for (std::size_t k = 0; k < out.size(); ++k) {
+        int code = static_cast<int>(k);
+        Scalar product = m[u(code % kSets)][u(kLast - 1)];
+        for (int i = kLast - 2; i >= kFirst; --i) {
+          code /= kSets;
+          product *= m[u(code % kSets)][u(i)];
+        }
+        out[k] = product;
       }
-      out[u(k)] = product;
     }
   }
 
@@ -199,8 +198,8 @@ class TskEvaluator {
     // tail over the rest): one multiply per rule after 2·√kRules small products.
     std::array<Scalar, kRows> head;
     std::array<Scalar, kCols> tail;
-    outer_product(m, 0, kHead, head);
-    outer_product(m, kHead, kInputs, tail);
+    outer_product<0, kHead>(m, head);
+    outer_product<kHead, kInputs>(m, tail);
     std::array<Scalar, kRules> alpha;
     for (int p = 0; p < kRows; ++p) {
       for (int q = 0; q < kCols; ++q) alpha[u(p * kCols + q)] = head[u(p)] * tail[u(q)];
