@@ -337,6 +337,59 @@ inline Status to_raw(const SignalSpec& s, double v, std::int64_t& raw) noexcept 
   return Status::kOk;
 }
 
+// ---- Multi-part messages (request, response) ------------------------------------------------
+
+/// One physical value to encode: its signal, the value, and the field to name when it does not
+/// fit.
+template <typename Field>
+struct EncodedValue {
+  const SignalSpec* spec;
+  double value;
+  Field field;
+};
+
+/// Words of a `kParts`-part message with each part's multiplexor and the shared sequence set.
+template <std::size_t kParts>
+constexpr std::array<std::uint64_t, kParts> part_words(const SignalSpec& part,
+                                                       const SignalSpec& sequence,
+                                                       std::int64_t seq) noexcept {
+  std::array<std::uint64_t, kParts> words{};
+  for (std::size_t p = 0; p < kParts; ++p) {
+    put_raw(words[p], part, static_cast<std::int64_t>(p));
+    put_raw(words[p], sequence, seq);
+  }
+  return words;
+}
+
+/// Puts every value into the word of its part (the signal's multiplexor value). Returns kOk, or
+/// kInvalidInput with `*bad` (if given) naming the first value that is NaN, inf or out of range.
+template <typename Field, std::size_t kValues, std::size_t kParts>
+Status put_values(const EncodedValue<Field> (&values)[kValues],
+                  std::array<std::uint64_t, kParts>& words,
+                  Field* bad) noexcept {
+  for (const EncodedValue<Field>& v : values) {
+    std::int64_t raw = 0;
+    if (to_raw(*v.spec, v.value, raw) != Status::kOk) {
+      if (bad != nullptr) *bad = v.field;
+      return Status::kInvalidInput;
+    }
+    put_raw(words[static_cast<std::size_t>(v.spec->mux)], *v.spec, raw);
+  }
+  return Status::kOk;
+}
+
+/// The frames of a message: id `id`, DLC 8, one word each.
+template <std::size_t kParts>
+constexpr void store_frames(const std::array<std::uint64_t, kParts>& words,
+                            std::uint32_t id,
+                            std::array<Frame, kParts>& out) noexcept {
+  for (std::size_t p = 0; p < kParts; ++p) {
+    out[p].id = id;
+    out[p].dlc = kFrameDlc;
+    store_word(words[p], out[p]);
+  }
+}
+
 // ---- Request ----------------------------------------------------------------------------------
 
 /// The three frames of one request.
@@ -349,12 +402,7 @@ inline Status encode_request(const compensation::MoveRequest& move,
                              std::uint32_t base_id,
                              RequestFrames& out,
                              RequestField* bad = nullptr) noexcept {
-  struct Item {
-    const SignalSpec* spec;
-    double value;
-    RequestField field;
-  };
-  const Item items[] = {
+  const EncodedValue<RequestField> items[] = {
       {&request::kPv, move.pv_mm_s, RequestField::kPv},
       {&request::kPd, move.pd_mm, RequestField::kPd},
       {&request::kAv, move.av_mm_s, RequestField::kAv},
@@ -372,24 +420,9 @@ inline Status encode_request(const compensation::MoveRequest& move,
     if (bad != nullptr) *bad = RequestField::kSequence;
     return Status::kInvalidInput;
   }
-  std::array<std::uint64_t, kRequestParts> words{};
-  for (std::uint8_t p = 0; p < kRequestParts; ++p) {
-    put_raw(words[p], request::kPart, p);
-    put_raw(words[p], request::kSequence, move.sequence);
-  }
-  for (const Item& it : items) {
-    std::int64_t raw = 0;
-    if (to_raw(*it.spec, it.value, raw) != Status::kOk) {
-      if (bad != nullptr) *bad = it.field;
-      return Status::kInvalidInput;
-    }
-    put_raw(words[static_cast<std::size_t>(it.spec->mux)], *it.spec, raw);
-  }
-  for (std::size_t p = 0; p < kRequestParts; ++p) {
-    out[p].id = base_id + kRequestOffset;
-    out[p].dlc = kFrameDlc;
-    store_word(words[p], out[p]);
-  }
+  auto words = part_words<kRequestParts>(request::kPart, request::kSequence, move.sequence);
+  if (put_values(items, words, bad) != Status::kOk) return Status::kInvalidInput;
+  store_frames(words, base_id + kRequestOffset, out);
   return Status::kOk;
 }
 
@@ -471,12 +504,7 @@ inline Status encode_response(const compensation::Correction& c,
                               std::uint32_t base_id,
                               ResponseFrames& out,
                               ResponseField* bad = nullptr) noexcept {
-  struct Item {
-    const SignalSpec* spec;
-    double value;
-    ResponseField field;
-  };
-  const Item items[] = {
+  const EncodedValue<ResponseField> items[] = {
       {&response::kMpe, c.mpe_um, ResponseField::kMpe},
       {&response::kRpe, c.rpe_um, ResponseField::kRpe},
       {&response::kMae, c.mae_um, ResponseField::kMae},
@@ -486,27 +514,12 @@ inline Status encode_response(const compensation::Correction& c,
       {&response::kCorrZ, c.correction_um[2], ResponseField::kCorrZ},
   };
   if (c.sequence > kSequenceMask || axis > 3) return Status::kInvalidInput;
-  std::array<std::uint64_t, kResponseParts> words{};
-  for (std::uint8_t p = 0; p < kResponseParts; ++p) {
-    put_raw(words[p], response::kPart, p);
-    put_raw(words[p], response::kSequence, c.sequence);
-  }
+  auto words = part_words<kResponseParts>(response::kPart, response::kSequence, c.sequence);
   put_raw(words[0], response::kFlags, c.flags & 0xFu);
   put_raw(words[0], response::kAxis, axis);
   put_raw(words[2], response::kModelId, static_cast<std::int64_t>(c.model_id & 0xFFFFFFFFu));
-  for (const Item& it : items) {
-    std::int64_t raw = 0;
-    if (to_raw(*it.spec, it.value, raw) != Status::kOk) {
-      if (bad != nullptr) *bad = it.field;
-      return Status::kInvalidInput;
-    }
-    put_raw(words[static_cast<std::size_t>(it.spec->mux)], *it.spec, raw);
-  }
-  for (std::size_t p = 0; p < kResponseParts; ++p) {
-    out[p].id = base_id + kResponseOffset;
-    out[p].dlc = kFrameDlc;
-    store_word(words[p], out[p]);
-  }
+  if (put_values(items, words, bad) != Status::kOk) return Status::kInvalidInput;
+  store_frames(words, base_id + kResponseOffset, out);
   return Status::kOk;
 }
 
