@@ -209,34 +209,33 @@ std::vector<FieldValue> decode_modbus_request(const std::vector<std::uint8_t>& b
   add_mbap(out, b);
   if (b.size() < 8) return out;
   const std::uint8_t fc = b[7];
+  // Address and count of a read or write block starting at byte `at`; a write's byte count and
+  // registers follow it.
+  const auto add_read = [&](std::size_t at) {
+    add(out, "read address", at, 2, std::to_string(be(b, at, 2)));
+    add(out, "read count", at + 2, 2, std::to_string(be(b, at + 2, 2)));
+  };
+  const auto add_write = [&](std::size_t at) {
+    add(out, "write address", at, 2, std::to_string(be(b, at, 2)));
+    add(out, "write count", at + 2, 2, std::to_string(be(b, at + 2, 2)));
+    add(out, "byte count", at + 4, 1, std::to_string(b[at + 4]));
+    add_registers(out,
+                  b,
+                  at + 5,
+                  static_cast<std::uint32_t>(be(b, at, 2)),
+                  static_cast<std::uint32_t>(be(b, at + 2, 2)),
+                  true);
+  };
   if ((fc == 0x03 || fc == 0x04) && b.size() >= 12) {
-    add(out, "read address", 8, 2, std::to_string(be(b, 8, 2)));
-    add(out, "read count", 10, 2, std::to_string(be(b, 10, 2)));
+    add_read(8);
   } else if (fc == 0x06 && b.size() >= 12) {
     add(out, "address", 8, 2, std::to_string(be(b, 8, 2)));
     add_registers(out, b, 10, static_cast<std::uint32_t>(be(b, 8, 2)), 1, true);
   } else if (fc == 0x10 && b.size() >= 13) {
-    add(out, "write address", 8, 2, std::to_string(be(b, 8, 2)));
-    add(out, "write count", 10, 2, std::to_string(be(b, 10, 2)));
-    add(out, "byte count", 12, 1, std::to_string(b[12]));
-    add_registers(out,
-                  b,
-                  13,
-                  static_cast<std::uint32_t>(be(b, 8, 2)),
-                  static_cast<std::uint32_t>(be(b, 10, 2)),
-                  true);
+    add_write(8);
   } else if (fc == 0x17 && b.size() >= 17) {
-    add(out, "read address", 8, 2, std::to_string(be(b, 8, 2)));
-    add(out, "read count", 10, 2, std::to_string(be(b, 10, 2)));
-    add(out, "write address", 12, 2, std::to_string(be(b, 12, 2)));
-    add(out, "write count", 14, 2, std::to_string(be(b, 14, 2)));
-    add(out, "byte count", 16, 1, std::to_string(b[16]));
-    add_registers(out,
-                  b,
-                  17,
-                  static_cast<std::uint32_t>(be(b, 12, 2)),
-                  static_cast<std::uint32_t>(be(b, 14, 2)),
-                  true);
+    add_read(8);
+    add_write(12);
   }
   return out;
 }

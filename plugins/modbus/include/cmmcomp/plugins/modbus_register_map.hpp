@@ -278,18 +278,23 @@ struct Result {
   std::uint64_t model_id = 0;                          ///< model that computed it
 };
 
+/// The seven values of `c` in result-block order (MPE, RPE, MAE, RAE, correction x, y, z).
+/// RT-safe.
+inline std::array<double, 7> result_values(const compensation::Correction& c) noexcept {
+  return {c.mpe_um,
+          c.rpe_um,
+          c.mae_um,
+          c.rae_um,
+          c.correction_um[0],
+          c.correction_um[1],
+          c.correction_um[2]};
+}
+
 /// True when every value of `c` fits a finite binary32. RT-safe.
 inline bool fits_f32(const compensation::Correction& c) noexcept {
   constexpr double kMax = static_cast<double>(std::numeric_limits<float>::max());
-  const double values[7] = {c.mpe_um,
-                            c.rpe_um,
-                            c.mae_um,
-                            c.rae_um,
-                            c.correction_um[0],
-                            c.correction_um[1],
-                            c.correction_um[2]};
   bool good = true;
-  for (double v : values) good = good && std::isfinite(v) && std::fabs(v) <= kMax;
+  for (double v : result_values(c)) good = good && std::isfinite(v) && std::fabs(v) <= kMax;
   return good;
 }
 
@@ -308,13 +313,7 @@ inline void encode_result(std::uint16_t sequence,
   in[kResultFlags] = static_cast<std::uint16_t>(usable ? c.flags : compensation::flags_for(status));
   in[kResultAxis] = axis;
   in[kResultReserved] = 0;
-  const double values[7] = {c.mpe_um,
-                            c.rpe_um,
-                            c.mae_um,
-                            c.rae_um,
-                            c.correction_um[0],
-                            c.correction_um[1],
-                            c.correction_um[2]};
+  const std::array<double, 7> values = result_values(c);
   for (std::uint16_t i = 0; i < 7; ++i) {
     put_f32(&in[static_cast<std::size_t>(kMpe + 2 * i)],
             usable ? static_cast<float>(values[i]) : 0.0f);
