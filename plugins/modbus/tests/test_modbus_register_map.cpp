@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "modbus_example_result.hpp"
 #include "modbus_test_support.hpp"
 
 namespace {
@@ -180,18 +181,7 @@ TEST(ModbusWorkedExample, RequestAndResponseBytes) {
     EXPECT_EQ(response[9 + 2 * i], reg >> 8) << i;
     EXPECT_EQ(response[10 + 2 * i], reg & 0xFF) << i;
   }
-  const map::Result r = map::decode_result(handler.input());
-  EXPECT_EQ(r.sequence, 7);
-  EXPECT_EQ(r.status, 0);
-  EXPECT_EQ(r.flags, compensation::kFlagOk);
-  EXPECT_EQ(r.mpe_um, 11.0);
-  EXPECT_EQ(r.rpe_um, -1.5);
-  EXPECT_EQ(r.mae_um, 5.0);
-  EXPECT_EQ(r.rae_um, 2.0);
-  EXPECT_EQ(r.correction_um[0], static_cast<double>(1.2f));
-  EXPECT_EQ(r.correction_um[1], 0.0);
-  EXPECT_EQ(r.correction_um[2], static_cast<double>(-1.6f));
-  EXPECT_EQ(r.model_id, test::kExampleModelId);
+  test::expect_example_result(map::decode_result(handler.input()));
 }
 
 // ---- endpoints and options

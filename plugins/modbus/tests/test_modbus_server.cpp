@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "modbus_example_result.hpp"
 #include "modbus_test_support.hpp"
 
 namespace {
@@ -62,17 +63,7 @@ TEST_F(ModbusServerTest, RequestAndResultMatchTheClosedForm) {
       << modbus_strerror(errno);
   map::InputRegisters in{};
   ASSERT_TRUE(test::read_inputs(c.get(), in)) << modbus_strerror(errno);
-  const map::Result r = map::decode_result(in);
-  EXPECT_EQ(r.sequence, 7);
-  EXPECT_EQ(r.status, 0);
-  EXPECT_EQ(r.flags, compensation::kFlagOk);
-  EXPECT_EQ(r.mpe_um, 11.0);
-  EXPECT_EQ(r.rpe_um, -1.5);
-  EXPECT_EQ(r.mae_um, 5.0);
-  EXPECT_EQ(r.rae_um, 2.0);
-  EXPECT_EQ(r.correction_um[0], static_cast<double>(1.2f));
-  EXPECT_EQ(r.correction_um[2], static_cast<double>(-1.6f));
-  EXPECT_EQ(r.model_id, test::kExampleModelId);
+  test::expect_example_result(map::decode_result(in));
   EXPECT_EQ(in[map::kProtocolVersionReg], map::kProtocolVersion);
   EXPECT_EQ(map::get_u64(&in[map::kModelIdAxis0]), test::kExampleModelId);
   // The request reads back from the holding registers.
