@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "can_example_result.hpp"
 #include "can_test_frames.hpp"
 
 namespace {
@@ -266,14 +267,7 @@ TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
   ASSERT_EQ(out.size, kResponseParts);
   DecodedResponse d;
   ASSERT_TRUE(decode_response({out.frames[0], out.frames[1], out.frames[2]}, kDefaultBaseId, d));
-  EXPECT_DOUBLE_EQ(d.correction.mpe_um, 3.5);
-  EXPECT_DOUBLE_EQ(d.correction.rpe_um, -1.0);
-  EXPECT_DOUBLE_EQ(d.correction.mae_um, 4.0);
-  EXPECT_DOUBLE_EQ(d.correction.rae_um, 3.5);
-  EXPECT_DOUBLE_EQ(d.correction.correction_um[0], -3.5);
-  EXPECT_EQ(d.correction.flags, compensation::kFlagOk);
-  EXPECT_EQ(d.correction.model_id, cmmcomp::test::kExampleModelId);
-  EXPECT_EQ(d.correction.sequence, 5u);
+  cmmcomp::test::expect_example_response(d);
 }
 
 // The document's reject examples (| sent | answer | why |), in order, through one handler.

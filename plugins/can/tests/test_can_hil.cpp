@@ -8,6 +8,7 @@
 #include <memory>
 #include <thread>
 
+#include "can_example_result.hpp"
 #include "can_peer.hpp"
 #include "can_test_frames.hpp"
 
@@ -81,14 +82,7 @@ TEST_F(CanServerHil, AnswersARequestWithTheClosedFormCorrection) {
   ASSERT_TRUE(send_all(request(5)));
   DecodedResponse d;
   ASSERT_TRUE(receive_response(d));
-  EXPECT_DOUBLE_EQ(d.correction.mpe_um, 3.5);
-  EXPECT_DOUBLE_EQ(d.correction.rpe_um, -1.0);
-  EXPECT_DOUBLE_EQ(d.correction.mae_um, 4.0);
-  EXPECT_DOUBLE_EQ(d.correction.rae_um, 3.5);
-  EXPECT_DOUBLE_EQ(d.correction.correction_um[0], -3.5);
-  EXPECT_EQ(d.correction.flags, compensation::kFlagOk);
-  EXPECT_EQ(d.correction.sequence, 5u);
-  EXPECT_EQ(d.correction.model_id, cmmcomp::test::kExampleModelId);
+  cmmcomp::test::expect_example_response(d);
 }
 
 TEST_F(CanServerHil, KernelFilterKeepsOtherIdentifiersAway) {
