@@ -294,6 +294,15 @@ constexpr void store_word(std::uint64_t w, Frame& f) noexcept {
   for (std::size_t i = 0; i < 8; ++i) f.data[i] = static_cast<std::uint8_t>(w >> (8 * i));
 }
 
+/// A data frame (DLC 8) with id `id` carrying `w`. RT-safe.
+constexpr Frame frame_of(std::uint64_t w, std::uint32_t id) noexcept {
+  Frame f;
+  f.id = id;
+  f.dlc = kFrameDlc;
+  store_word(w, f);
+  return f;
+}
+
 constexpr std::uint64_t field_mask(const SignalSpec& s) noexcept {
   return s.length >= 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << s.length) - 1);
 }
@@ -383,11 +392,7 @@ template <std::size_t kParts>
 constexpr void store_frames(const std::array<std::uint64_t, kParts>& words,
                             std::uint32_t id,
                             std::array<Frame, kParts>& out) noexcept {
-  for (std::size_t p = 0; p < kParts; ++p) {
-    out[p].id = id;
-    out[p].dlc = kFrameDlc;
-    store_word(words[p], out[p]);
-  }
+  for (std::size_t p = 0; p < kParts; ++p) out[p] = frame_of(words[p], id);
 }
 
 // ---- Request ----------------------------------------------------------------------------------
@@ -577,11 +582,7 @@ constexpr Frame encode_reject(const RejectInfo& r, std::uint32_t base_id) noexce
   put_raw(w, reject::kDetail, r.detail);
   put_raw(w, reject::kStatus, r.status);
   put_raw(w, reject::kRejected, r.rejected);
-  Frame f;
-  f.id = base_id + kRejectOffset;
-  f.dlc = kFrameDlc;
-  store_word(w, f);
-  return f;
+  return frame_of(w, base_id + kRejectOffset);
 }
 
 /// Decodes a reject frame; false when `f` is not one. RT-safe.
@@ -627,11 +628,7 @@ constexpr Frame encode_heartbeat(const HeartbeatInfo& h,
             heartbeat::kModelIds[axis],
             static_cast<std::int64_t>(h.model_ids[axis] & 0xFFFFFFFFFFFFull));
   }
-  Frame f;
-  f.id = base_id + kHeartbeatOffset;
-  f.dlc = kFrameDlc;
-  store_word(w, f);
-  return f;
+  return frame_of(w, base_id + kHeartbeatOffset);
 }
 
 /// Merges one heartbeat page into `out`; returns the page, or −1 when `f` is not a heartbeat.
