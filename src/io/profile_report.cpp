@@ -18,14 +18,16 @@ std::string describe_profile(const motion::MoveProfile& profile) {
   std::string s;
   fmt::format_to(std::back_inserter(s),
                  "move: PV {:g} mm/s, PA {:g} mm/s^2, PD {:g} mm, AV {:g} mm/s, AA {:g} mm/s^2, "
-                 "AD {:g} mm, jerk {}\n",
+                 "AD {:g} mm, jerk {}, dwell {:g} s, smoothing {:g} s\n",
                  m.positioning_speed * kMm,
                  m.positioning_accel * kMm,
                  m.positioning_distance * kMm,
                  m.approach_speed * kMm,
                  m.approach_accel * kMm,
                  m.approach_distance * kMm,
-                 m.jerk > 0.0 ? fmt::format("{:g} mm/s^3", m.jerk * kMm) : "unlimited");
+                 m.jerk > 0.0 ? fmt::format("{:g} mm/s^3", m.jerk * kMm) : "unlimited",
+                 m.dwell,
+                 m.smoothing);
   fmt::format_to(std::back_inserter(s),
                  "positioning: {} (peak {:.3f} mm/s); approach: {}\n",
                  profile.positioning_reaches_speed() ? "cruises at PV" : "too short to reach PV",
@@ -33,15 +35,17 @@ std::string describe_profile(const motion::MoveProfile& profile) {
                  profile.approach_reaches_speed() ? "reaches AV before the touch"
                                                   : "touches while still accelerating");
   fmt::format_to(std::back_inserter(s), "phase instants [s]:\n");
-  fmt::format_to(std::back_inserter(s),
-                 "  positioning acceleration end (RPE)  {:.6f}\n",
-                 t.positioning_accel_end);
-  fmt::format_to(
-      std::back_inserter(s), "  positioning end                     {:.6f}\n", t.positioning_end);
-  fmt::format_to(std::back_inserter(s),
-                 "  approach acceleration end           {:.6f}\n",
-                 t.approach_accel_end);
-  fmt::format_to(std::back_inserter(s), "  touch (RAE)                         {:.6f}\n", t.touch);
+  const struct {
+    const char* name;
+    double t;
+  } rows[] = {{"positioning acceleration end", t.positioning_accel_end},
+              {"positioning deceleration start (RPE)", t.positioning_decel_start},
+              {"positioning end (pre-hit point)", t.positioning_end},
+              {"approach start (after the dwell)", t.approach_start},
+              {"approach acceleration end", t.approach_accel_end},
+              {"touch (RAE)", t.touch}};
+  for (const auto& r : rows)
+    fmt::format_to(std::back_inserter(s), "  {:<38} {:.6f}\n", r.name, r.t);
   fmt::format_to(std::back_inserter(s),
                  "segments:\n  {:>3} {:>10} {:>10} {:>11} {:>12} {:>14} {:>14}\n",
                  "#",
@@ -80,7 +84,12 @@ std::string profile_csv(const motion::MoveProfile& profile, int samples) {
     times.push_back(in.touch * i / (samples - 1));
   }
   times.insert(times.end(),
-               {in.positioning_accel_end, in.positioning_end, in.approach_accel_end, in.touch});
+               {in.positioning_accel_end,
+                in.positioning_decel_start,
+                in.positioning_end,
+                in.approach_start,
+                in.approach_accel_end,
+                in.touch});
   std::sort(times.begin(), times.end());
   times.erase(std::unique(times.begin(), times.end()), times.end());
   std::string s = "t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3\n";

@@ -10,7 +10,8 @@
 namespace cmmcomp::errors {
 namespace {
 
-// Instants of the baseline move: 0.2, 1.2, 1.4, 2.1333 s.
+// Instants of the baseline move: accel end 0.2, decel start 1.0, positioning end = approach
+// start 1.2 (no dwell), approach accel end 1.4, touch 2.1333 s.
 motion::PhaseInstants baseline_instants() {
   motion::MoveProfile p;
   EXPECT_EQ(motion::MoveProfile::plan(motion::baseline_move(), p), Status::kOk);
@@ -37,12 +38,12 @@ TEST(DynamicErrors, PiecewiseLinearTraceGivesExactValues) {
   const motion::PhaseInstants in = baseline_instants();
   // Knots away from the instants, so the values at the instants come from interpolation.
   Trace tr;
-  tr.t = {0.0, 0.1, 0.3, 0.7, 1.25, 1.3, 1.5, 2.0, 2.2};
-  tr.e = {0.0, -8.0, -4.0, 13.5, 2.0, -7.0, -1.0, 3.0, 5.0};
+  tr.t = {0.0, 0.3, 0.7, 0.9, 1.1, 1.25, 1.3, 1.5, 2.0, 2.2};
+  tr.e = {0.0, -4.0, 13.5, -8.0, -4.0, 2.0, -7.0, -1.0, 3.0, 5.0};
   DynamicErrors out;
   ASSERT_EQ(extract_dynamic_errors(tr.view(), in, +1, out), Status::kOk);
   EXPECT_DOUBLE_EQ(out.mpe, 13.5);
-  EXPECT_DOUBLE_EQ(out.rpe, -6.0);  // halfway between -8 at 0.1 and -4 at 0.3
+  EXPECT_DOUBLE_EQ(out.rpe, -6.0);  // at the deceleration start, halfway between -8 and -4
   EXPECT_DOUBLE_EQ(out.mae, 7.0);
   const double w = (in.touch - 2.0) / 0.2;
   EXPECT_DOUBLE_EQ(out.rae, 3.0 + w * 2.0);
@@ -72,7 +73,7 @@ TEST(DynamicErrors, SmoothTraceConvergesToAnalyticValues) {
   DynamicErrors out;
   ASSERT_EQ(extract_dynamic_errors(tr.view(), in, +1, out), Status::kOk);
   EXPECT_NEAR(out.mpe, 10.0, 1e-5);
-  EXPECT_NEAR(out.rpe, f(0.2), 1e-6);
+  EXPECT_NEAR(out.rpe, f(in.positioning_decel_start), 1e-6);
   EXPECT_NEAR(out.rae, f(in.touch), 1e-6);
   // Approach maximum: brute force on a much finer grid.
   double mae = 0;
@@ -92,8 +93,28 @@ TEST(DynamicErrors, DirectionSignsOnlyTheResiduals) {
   EXPECT_DOUBLE_EQ(fwd.mae, back.mae);
   EXPECT_DOUBLE_EQ(fwd.rpe, -back.rpe);
   EXPECT_DOUBLE_EQ(fwd.rae, -back.rae);
-  EXPECT_NEAR(fwd.rpe, 2.2, 1e-12);
+  EXPECT_NEAR(fwd.rpe, 2.0 + in.positioning_decel_start, 1e-12);
   EXPECT_NEAR(fwd.rae, 2.0 + in.touch, 1e-12);
+}
+
+TEST(DynamicErrors, RpeIsReadAtTheDecelerationStartAndMaeAfterTheDwell) {
+  motion::ProbingMove move = motion::baseline_move();
+  move.dwell = 0.5;
+  motion::MoveProfile p;
+  ASSERT_EQ(motion::MoveProfile::plan(move, p), Status::kOk);
+  const motion::PhaseInstants in = p.instants();
+  ASSERT_NEAR(in.positioning_decel_start, 1.0, 1e-12);
+  ASSERT_NEAR(in.approach_start, 1.7, 1e-12);
+  // A spike during the dwell (at rest at the pre-hit point) is outside both maximum windows.
+  Trace tr;
+  tr.t = {0.0, 0.2, 1.0, 1.2, 1.45, 1.7, 2.0, in.touch};
+  tr.e = {0.0, 3.0, -2.5, 1.0, 20.0, 1.0, -4.0, -3.0};
+  DynamicErrors out;
+  ASSERT_EQ(extract_dynamic_errors(tr.view(), in, +1, out), Status::kOk);
+  EXPECT_DOUBLE_EQ(out.rpe, -2.5);
+  EXPECT_DOUBLE_EQ(out.mpe, 3.0);
+  EXPECT_DOUBLE_EQ(out.mae, 4.0);
+  EXPECT_DOUBLE_EQ(out.rae, -3.0);
 }
 
 TEST(DynamicErrors, RejectsBadTracesAndLeavesOutputUntouched) {
@@ -134,6 +155,14 @@ TEST(DynamicErrors, RejectsBadTracesAndLeavesOutputUntouched) {
   disordered.positioning_end = in.touch + 1;
   DynamicErrors out = sentinel;
   EXPECT_EQ(extract_dynamic_errors(good.view(), disordered, 1, out), Status::kInvalidInput);
+  EXPECT_EQ(out.mpe, 1);
+  motion::PhaseInstants decel_before_accel = in;
+  decel_before_accel.positioning_decel_start = in.positioning_accel_end / 2;
+  EXPECT_EQ(extract_dynamic_errors(good.view(), decel_before_accel, 1, out), Status::kInvalidInput);
+  motion::PhaseInstants approach_before_stop = in;
+  approach_before_stop.approach_start = in.positioning_end / 2;
+  EXPECT_EQ(extract_dynamic_errors(good.view(), approach_before_stop, 1, out),
+            Status::kInvalidInput);
   EXPECT_EQ(out.mpe, 1);
 }
 

@@ -34,8 +34,11 @@ void expect_valid_profile(const MoveProfile& p) {
   ASSERT_LE(p.segment_count(), MoveProfile::kMaxSegments);
   EXPECT_LE(0.0, in.positioning_accel_end);
   EXPECT_LT(in.positioning_accel_end, in.positioning_end);
-  EXPECT_LT(in.positioning_end, in.touch);
-  EXPECT_LE(in.positioning_end, in.approach_accel_end);
+  EXPECT_LE(in.positioning_accel_end, in.positioning_decel_start);
+  EXPECT_LT(in.positioning_decel_start, in.positioning_end);
+  EXPECT_NEAR(in.approach_start - in.positioning_end, m.dwell, 1e-12 * in.touch);
+  EXPECT_LT(in.approach_start, in.touch);
+  EXPECT_LE(in.approach_start, in.approach_accel_end);
   EXPECT_LE(in.approach_accel_end, in.touch);
 
   // Segments tile [0, touch] with no gap.
@@ -48,7 +51,7 @@ void expect_valid_profile(const MoveProfile& p) {
     // Position and velocity are continuous everywhere; acceleration too when jerk-limited.
     EXPECT_NEAR(ea.position, b.p0, eps_p) << "segment " << i;
     EXPECT_NEAR(ea.velocity, b.v0, eps_v) << "segment " << i;
-    if (m.jerk > 0.0) {
+    if (m.jerk > 0.0 || m.smoothing > 0.0) {
       EXPECT_NEAR(ea.acceleration, b.a0, eps_a) << "segment " << i;
     }
   }
@@ -72,8 +75,13 @@ void expect_valid_profile(const MoveProfile& p) {
     ASSERT_GE(s.velocity, -eps_v) << "t=" << t;
     ASSERT_LE(s.velocity, vmax + eps_v) << "t=" << t;
     ASSERT_LE(std::fabs(s.acceleration), amax + eps_a) << "t=" << t;
-    if (m.jerk > 0.0) {
-      ASSERT_LE(std::fabs(s.jerk), m.jerk * (1 + 1e-12)) << "t=" << t;
+    // Smoothing over T limits the jerk to accel / T in each phase.
+    double jmax = m.jerk > 0.0 ? m.jerk : std::numeric_limits<double>::infinity();
+    if (m.smoothing > 0.0) jmax = std::min(jmax, amax / m.smoothing);
+    ASSERT_LE(std::fabs(s.jerk), jmax * (1 + 1e-12)) << "t=" << t;
+    if (t > in.positioning_end && t < in.approach_start) {
+      ASSERT_NEAR(s.velocity, 0.0, eps_v) << "dwell, t=" << t;
+      ASSERT_NEAR(s.position, m.positioning_distance, eps_p) << "dwell, t=" << t;
     }
   }
 
@@ -98,7 +106,9 @@ TEST(MoveProfile, BaselineInstantsAreExact) {
   const MoveProfile p = planned(baseline_move());
   // 0.2 s ramp, 0.8 s cruise over 32 mm, 0.2 s ramp; approach: 0.2 s ramp, 8.8 mm at 12 mm/s.
   EXPECT_NEAR(p.instants().positioning_accel_end, 0.2, 1e-15);
+  EXPECT_NEAR(p.instants().positioning_decel_start, 1.0, 1e-15);
   EXPECT_NEAR(p.instants().positioning_end, 1.2, 1e-15);
+  EXPECT_EQ(p.instants().approach_start, p.instants().positioning_end);  // no dwell
   EXPECT_NEAR(p.instants().approach_accel_end, 1.4, 1e-15);
   EXPECT_NEAR(p.instants().touch, 1.4 + 8.8 / 12.0, 1e-15);
   EXPECT_EQ(p.segment_count(), 5);
@@ -119,7 +129,43 @@ TEST(MoveProfile, TriangularPositioningWhenDistanceTooShort) {
   EXPECT_NEAR(p.positioning_peak_speed(), std::sqrt(0.040 * 0.200), 1e-15);
   EXPECT_NEAR(p.instants().positioning_accel_end, std::sqrt(0.040 / 0.200), 1e-15);
   EXPECT_NEAR(p.instants().positioning_end, 2.0 * std::sqrt(0.040 / 0.200), 1e-15);
+  // No cruise: the deceleration starts at the peak-speed instant.
+  EXPECT_EQ(p.instants().positioning_decel_start, p.instants().positioning_accel_end);
   expect_valid_profile(p);
+}
+
+TEST(MoveProfile, DwellHoldsThePreHitPointAndShiftsTheApproach) {
+  ProbingMove m = baseline_move();
+  m.dwell = 0.8;
+  const MoveProfile p = planned(m);
+  EXPECT_NEAR(p.instants().positioning_end, 1.2, 1e-15);
+  EXPECT_NEAR(p.instants().approach_start, 2.0, 1e-15);
+  EXPECT_NEAR(p.instants().approach_accel_end, 2.2, 1e-14);
+  EXPECT_NEAR(p.instants().touch, 2.2 + 8.8 / 12.0, 1e-14);
+  EXPECT_EQ(p.segment_count(), 6);
+  expect_valid_profile(p);
+}
+
+TEST(MoveProfile, SmoothingIsAJerkLimitOfAccelOverTheSmoothingTime) {
+  ProbingMove m = baseline_move();
+  m.smoothing = 0.04;  // PA 0.2 -> J 5 m/s^3; AA 0.06 -> J 1.5 m/s^3
+  const MoveProfile smoothed = planned(m);
+  ProbingMove positioning_jerk = baseline_move();
+  positioning_jerk.jerk = 5.0;
+  // A moving average over T of a trapezoid's acceleration: each ramp lasts T longer.
+  EXPECT_NEAR(smoothed.instants().positioning_accel_end, 0.2 + 0.04, 1e-14);
+  EXPECT_NEAR(smoothed.instants().positioning_end, 1.2 + 0.04, 1e-14);
+  EXPECT_NEAR(smoothed.instants().positioning_accel_end,
+              planned(positioning_jerk).instants().positioning_accel_end,
+              1e-15);
+  EXPECT_NEAR(smoothed.instants().approach_accel_end - smoothed.instants().approach_start,
+              0.2 + 0.04,
+              1e-14);
+  expect_valid_profile(smoothed);
+  // A tighter jerk limit of the move wins over the smoothing's.
+  m.jerk = 1.0;
+  EXPECT_NEAR(planned(m).sample(0.01).jerk, 1.0, 1e-15);
+  expect_valid_profile(planned(m));
 }
 
 TEST(MoveProfile, TouchWhileAcceleratingWhenApproachTooShort) {
@@ -196,6 +242,8 @@ TEST(MoveProfile, RandomMovesHaveExactDistancesAndContinuity) {
     m.approach_accel = log_uniform(0.01, 1.0);
     m.approach_distance = log_uniform(0.0001, 0.03);
     m.jerk = (i % 2 == 0) ? 0.0 : log_uniform(0.1, 100.0);
+    m.dwell = (i % 3 == 0) ? 0.0 : log_uniform(0.001, 2.0);
+    m.smoothing = (i % 4 < 2) ? 0.0 : log_uniform(0.001, 0.2);
     SCOPED_TRACE("case " + std::to_string(i));
     MoveProfile p;
     ASSERT_EQ(MoveProfile::plan(m, p), Status::kOk);
@@ -220,7 +268,7 @@ TEST(MoveProfile, RejectsInvalidParametersAndLeavesOutputUntouched) {
   MoveProfile good = planned(baseline_move());
   const double touch = good.instants().touch;
   const double bad_values[] = {0.0, -1.0, kNaN, kInf, -kInf, 1e9, 1e-12};
-  for (int field = 0; field < 7; ++field) {
+  for (int field = 0; field < 9; ++field) {
     for (double v : bad_values) {
       ProbingMove m = baseline_move();
       double* fields[] = {&m.positioning_speed,
@@ -229,8 +277,11 @@ TEST(MoveProfile, RejectsInvalidParametersAndLeavesOutputUntouched) {
                           &m.approach_speed,
                           &m.approach_accel,
                           &m.approach_distance,
-                          &m.jerk};
-      if (field == 6 && v == 0.0) continue;  // jerk 0 means "no jerk limit"
+                          &m.jerk,
+                          &m.dwell,
+                          &m.smoothing};
+      if (field == 6 && v == 0.0) continue;                 // jerk 0 means "no jerk limit"
+      if (field > 6 && (v == 0.0 || v == 1e-12)) continue;  // dwell, smoothing: 0 = none
       *fields[field] = v;
       EXPECT_EQ(MoveProfile::plan(m, good), Status::kInvalidInput)
           << "field " << field << " value " << v;

@@ -4,8 +4,9 @@
 /// The single definition used by the simulator, the tools and the tests (docs/dynamic-errors.md).
 /// Given the error trace e(t) = (x_tip(t) − x_scale(t)) · d, with d = ±1 the direction of motion:
 ///  - MPE = max |e| over the positioning phase [0, positioning_end];
-///  - RPE = e(positioning_accel_end), signed (positive: tip ahead of the scale reading);
-///  - MAE = max |e| over the approach phase [positioning_end, touch];
+///  - RPE = e(positioning_decel_start), the end of the cruise at PV, signed (positive: tip
+///    ahead of the scale reading);
+///  - MAE = max |e| over the approach phase [approach_start, touch];
 ///  - RAE = e(touch), signed: the error of the measured point.
 /// The instants come from the move profile, never from the trace. A sampled trace is linearly
 /// interpolated at the instants, and the maxima include the interpolated phase ends.
@@ -76,16 +77,17 @@ inline double max_abs(const TraceView& trace, double a, double b) noexcept {
 /// Computes MPE, RPE, MAE, RAE from `trace` and the move's `instants`; `direction` is +1 or −1.
 /// RT-safe (no allocation; O(samples)). Returns kOk; kInvalidInput when direction is not ±1,
 /// a sample is NaN/inf, times are not strictly increasing, or the instants are not ordered
-/// 0 <= accel_end <= positioning_end <= touch; kTraceTooShort when the trace has fewer than two
-/// samples or does not cover [0, touch]. `out` is untouched on error.
+/// 0 <= accel_end <= decel_start <= positioning_end <= approach_start <= touch; kTraceTooShort when
+/// the trace has fewer than two samples or does not cover [0, touch]. `out` is untouched on error.
 [[nodiscard]] inline Status extract_dynamic_errors(const TraceView& trace,
                                                    const motion::PhaseInstants& instants,
                                                    int direction,
                                                    DynamicErrors& out) noexcept {
   if (direction != 1 && direction != -1) return Status::kInvalidInput;
   const motion::PhaseInstants& s = instants;
-  if (!(0.0 <= s.positioning_accel_end && s.positioning_accel_end <= s.positioning_end &&
-        s.positioning_end <= s.touch && std::isfinite(s.touch))) {
+  if (!(0.0 <= s.positioning_accel_end && s.positioning_accel_end <= s.positioning_decel_start &&
+        s.positioning_decel_start <= s.positioning_end && s.positioning_end <= s.approach_start &&
+        s.approach_start <= s.touch && std::isfinite(s.touch))) {
     return Status::kInvalidInput;
   }
   if (trace.time == nullptr || trace.error == nullptr || trace.count < 2) {
@@ -103,8 +105,8 @@ inline double max_abs(const TraceView& trace, double a, double b) noexcept {
   const double d = direction;
   DynamicErrors e;
   e.mpe = detail::max_abs(trace, 0.0, s.positioning_end);
-  e.rpe = d * detail::interpolate(trace, s.positioning_accel_end);
-  e.mae = detail::max_abs(trace, s.positioning_end, s.touch);
+  e.rpe = d * detail::interpolate(trace, s.positioning_decel_start);
+  e.mae = detail::max_abs(trace, s.approach_start, s.touch);
   e.rae = d * detail::interpolate(trace, s.touch);
   out = e;
   return Status::kOk;

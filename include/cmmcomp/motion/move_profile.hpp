@@ -3,12 +3,15 @@
 ///
 /// A probing move (Wei et al. 2019, Fig. 1) has two phases along one axis:
 ///  1. positioning over PD at PV with acceleration PA, from rest to rest;
-///  2. approach from rest over AD at AV with acceleration AA, ending at the touch point while
+///  2. an optional settling dwell at rest at the pre-hit point (a controller setting);
+///  3. approach from rest over AD at AV with acceleration AA, ending at the touch point while
 ///     still moving (a touch-trigger probe triggers in motion). If AD is too short to reach AV
 ///     the probe touches while still accelerating, and the profile says so.
-/// Without a jerk limit the phases are trapezoidal (triangular when the distance is too short
-/// to reach the speed); with one they are 7-segment S-curves (or the shorter jerk-limited
-/// forms). Every case is solved in closed form, so distances are hit to rounding error.
+/// Without a jerk limit or smoothing the phases are trapezoidal (triangular when the distance is
+/// too short to reach the speed); with one they are 7-segment S-curves (or the shorter
+/// jerk-limited forms). Command smoothing (a controller setting) ramps every acceleration change
+/// over a fixed time: a jerk limit of accel / smoothing in each phase. Every case is solved in
+/// closed form, so distances are hit to rounding error.
 ///
 /// Positions are measured from the start of the positioning phase, in the direction of motion.
 /// AV > PV is allowed: the two phases are planned independently.
@@ -29,6 +32,8 @@ struct ProbingMove {
   double approach_accel = 0.0;        ///< AA [m/s^2]
   double approach_distance = 0.0;     ///< AD [m]
   double jerk = 0.0;                  ///< jerk limit [m/s^3]; 0 = none (trapezoidal profiles)
+  double dwell = 0.0;                 ///< settling dwell at rest at the pre-hit point [s]; 0 = none
+  double smoothing = 0.0;  ///< command smoothing: each acceleration change ramps over this [s]
 };
 
 /// A move given in the units of the tools, the dataset CSV and the compensator (mm, mm/s,
@@ -45,13 +50,15 @@ constexpr ProbingMove probing_move_mm(double pv_mm_s,
                      av_mm_s * 1e-3,
                      aa_mm_s2 * 1e-3,
                      ad_mm * 1e-3,
+                     0.0,
+                     0.0,
                      0.0};
 }
 
 /// The paper's baseline move (PV 40 mm/s, PA 200 mm/s^2, PD 40 mm, AV 12 mm/s, AA 60 mm/s^2,
 /// AD 10 mm), in SI units.
 constexpr ProbingMove baseline_move() noexcept {
-  return ProbingMove{0.040, 0.200, 0.040, 0.012, 0.060, 0.010, 0.0};
+  return ProbingMove{0.040, 0.200, 0.040, 0.012, 0.060, 0.010, 0.0, 0.0, 0.0};
 }
 
 /// Accepted ranges of the move parameters (inclusive). Values outside are rejected with
@@ -65,6 +72,8 @@ struct MoveLimits {
   static constexpr double kMaxAccel = 1000.0;   ///< [m/s^2]
   static constexpr double kMinJerk = 1e-3;      ///< [m/s^3] (0 also accepted: no jerk limit)
   static constexpr double kMaxJerk = 1e7;       ///< [m/s^3]
+  static constexpr double kMaxDwell = 60.0;     ///< [s] (0 = no dwell)
+  static constexpr double kMaxSmoothing = 1.0;  ///< [s] (0 = no smoothing)
 };
 
 /// Commanded state at one instant.
@@ -76,11 +85,14 @@ struct MotionState {
 };
 
 /// The instants that define the four dynamic-error parameters [s], from the move start.
+/// Ordered: 0 <= accel_end <= decel_start <= positioning_end <= approach_start <= touch.
 struct PhaseInstants {
-  double positioning_accel_end = 0.0;  ///< commanded acceleration first back to zero (RPE)
-  double positioning_end = 0.0;        ///< positioning at rest at the pre-hit point
-  double approach_accel_end = 0.0;     ///< approach reaches AV (= touch if it never does)
-  double touch = 0.0;                  ///< the probe touches (RAE); end of the move
+  double positioning_accel_end = 0.0;    ///< commanded acceleration first back to zero
+  double positioning_decel_start = 0.0;  ///< end of the cruise at PV: deceleration starts (RPE)
+  double positioning_end = 0.0;          ///< positioning at rest at the pre-hit point
+  double approach_start = 0.0;           ///< end of the dwell: the approach starts
+  double approach_accel_end = 0.0;       ///< approach reaches AV (= touch if it never does)
+  double touch = 0.0;                    ///< the probe touches (RAE); end of the move
 };
 
 /// One piece of constant jerk: x(τ) = p0 + v0 τ + a0 τ²/2 + j τ³/6 for τ in [0, duration].
@@ -165,9 +177,10 @@ inline double time_to_reach(const Segment& s, double target) noexcept {
   return tau;
 }
 
-/// Up to 7 segments of one phase, chained from rest at time 0 and position 0.
+/// Up to 8 segments of one phase (a 7-segment S-curve and the dwell after it), chained from
+/// rest at time 0 and position 0.
 struct PhasePlan {
-  std::array<Segment, 7> segments{};
+  std::array<Segment, 8> segments{};
   int count = 0;
 
   double end_time() const noexcept {
@@ -214,8 +227,8 @@ struct PhasePlan {
 /// The planned commanded motion of one probing move.
 class MoveProfile {
  public:
-  /// 7 segments for the positioning S-curve, 3 for the approach acceleration, 1 cruise.
-  static constexpr int kMaxSegments = 11;
+  /// 7 segments for the positioning S-curve, 1 dwell, 3 for the approach acceleration, 1 cruise.
+  static constexpr int kMaxSegments = 12;
 
   /// Plans `move` into `out`. RT-safe (no allocation, bounded time).
   /// Returns kOk, or kInvalidInput (NaN, inf, or a parameter outside MoveLimits); on error
@@ -277,18 +290,27 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
                      in_range(m.approach_accel, L::kMinAccel, L::kMaxAccel) &&
                      in_range(m.positioning_distance, L::kMinDistance, L::kMaxDistance) &&
                      in_range(m.approach_distance, L::kMinDistance, L::kMaxDistance) &&
-                     (m.jerk == 0.0 || in_range(m.jerk, L::kMinJerk, L::kMaxJerk));
+                     (m.jerk == 0.0 || in_range(m.jerk, L::kMinJerk, L::kMaxJerk)) &&
+                     in_range(m.dwell, 0.0, L::kMaxDwell) &&
+                     in_range(m.smoothing, 0.0, L::kMaxSmoothing);
   if (!valid) return Status::kInvalidInput;
 
   MoveProfile p;
   p.move_ = m;
-  const double j = m.jerk;
+  // Smoothing ramps each acceleration change over `smoothing` seconds: per phase, a jerk limit of
+  // accel / smoothing (the tighter of it and the move's own jerk limit).
+  auto phase_jerk = [&m](double accel) {
+    if (!(m.smoothing > 0.0)) return m.jerk;
+    const double smoothed = accel / m.smoothing;
+    return m.jerk > 0.0 && m.jerk < smoothed ? m.jerk : smoothed;
+  };
 
   // Positioning: rest to rest over PD; triangular (or its jerk-limited form) when PD is short.
   detail::PhasePlan positioning;
   {
     const double d = m.positioning_distance;
     const double a = m.positioning_accel;
+    const double j = phase_jerk(a);
     double v = m.positioning_speed;
     const double ramp_distance = v * detail::accel_time(v, a, j);  // both ramps together
     double cruise = 0.0;
@@ -302,8 +324,11 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
     positioning.ramp(v, a, j, 1.0);
     p.instants_.positioning_accel_end = positioning.end_time();
     positioning.push(cruise, 0.0, 0.0);
+    p.instants_.positioning_decel_start = positioning.end_time();
     positioning.ramp(v, a, j, -1.0);
     p.instants_.positioning_end = positioning.end_time();
+    positioning.push(m.dwell, 0.0, 0.0);
+    p.instants_.approach_start = positioning.end_time();
   }
 
   // Approach: from rest at PD, accelerate towards AV, cruise; touch after AD.
@@ -312,6 +337,7 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
   {
     const double d = m.approach_distance;
     const double v = m.approach_speed;
+    const double j = phase_jerk(m.approach_accel);
     const double d_acc = v * detail::accel_time(v, m.approach_accel, j) / 2.0;
     approach.ramp(v, m.approach_accel, j, 1.0);
     if (d >= d_acc) {
@@ -336,7 +362,7 @@ inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept
   // The approach is anchored on the exact pre-hit point, so rounding in the positioning chain
   // never shifts the touch point.
   p.append(positioning, 0.0, 0.0);
-  p.append(approach, p.instants_.positioning_end, m.positioning_distance);
+  p.append(approach, p.instants_.approach_start, m.positioning_distance);
   // Every instant is read off the appended segments, so it equals a segment boundary to the
   // last bit (an integrator stopping at the boundaries lands exactly on the instants).
   const int first_approach = p.segment_count_ - approach.count;
