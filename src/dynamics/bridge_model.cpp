@@ -16,26 +16,27 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxCarriageY = 2.0;  // [m]
 
 // State layout (docs/machine-model.md). Deflections are lags: positive = behind the drive.
-constexpr int kLoads = MachineParameters::kDragLoads;
 enum : int {
   kServoError = 0,  // ε = x_scale − x_commanded [m]
   kServoRate,
-  kYaw,  // θ [rad]
-  kYawRate,
-  kCarriage,  // q: carriage/ram lateral lag at Y [m]
-  kCarriageRate,
-  kFirstLoad,  // u_k, u̇_k: drag-load coordinates [m], k = 0..2
-  kStates = kFirstLoad + 2 * kLoads
+  kMode,  // η: modal coordinate, the tip's lag at Y = 0 [m]
+  kModeRate,
+  kHoseInner,     // w: the hose link's first stage [m/s]
+  kHoseVelocity,  // v_h: the hose's filtered velocity [m/s]
+  kStates
 };
 static_assert(kStates == kBridgeStateCount);
 
 /// Coefficients that depend only on the machine and Y, computed once per move.
 struct Coefficients {
   double omega2 = 0, two_zeta_omega = 0, ff_deficit = 0, inv_mass = 0, bearing_drag = 0;
-  double yaw_inertia = 0, yaw_moment = 0, yaw_k = 0, yaw_c = 0, load_arm = 0;
-  double mc = 0, cq = 0, kq = 0;
-  std::array<MachineParameters::DragLoad, kLoads> load{};
-  double tip_arm = 0;  // lever from the scale to the tip [m]
+  double mode_omega2 = 0, mode_two_zeta_omega = 0;
+  double participation = 0;    // Γ: modal acceleration per drive acceleration
+  double drag_per_mass = 0;    // φ(Y) / m_modal: modal acceleration per N of hose drag
+  double inv_tau = 0;          // 1 / τ of the hose link
+  double lag_force = 0;        // N per m/s² of filtered acceleration (the delayed lag term)
+  double viscous = 0, coulomb = 0, inv_coulomb_speed = 0;
+  double phi = 1;              // mode shape at the tip, φ(Y)
 };
 
 Coefficients coefficients(const MachineParameters& p, double y) {
@@ -46,41 +47,47 @@ Coefficients coefficients(const MachineParameters& p, double y) {
   c.ff_deficit = 1.0 - p.servo_feedforward_gain;
   c.inv_mass = 1.0 / p.servo_moving_mass_kg;
   c.bearing_drag = p.servo_bearing_drag_Ns_per_m;
-  c.yaw_inertia = p.yaw_inertia_kgm2 + p.carriage_mass_kg * y * y;
-  c.yaw_moment = p.yaw_static_moment_kgm + p.carriage_mass_kg * y;
-  c.yaw_k = p.yaw_stiffness_Nm_per_rad;
-  c.yaw_c = p.yaw_damping_Nms_per_rad;
-  c.load_arm = y;  // the loads pull at the carriage
-  c.mc = p.carriage_mass_kg;
-  c.cq = p.carriage_damping_Ns_per_m;
-  // Cantilever from the drive leg: compliance = base + Y³ / (3 EI).
-  c.kq = 1.0 / (p.beam_base_compliance_m_per_N + y * y * y / (3.0 * p.beam_bending_EI_Nm2));
-  for (int k = 0; k < kLoads; ++k) c.load[static_cast<std::size_t>(k)] = p.load[k];
-  c.tip_arm = y + p.scale_offset_m;
+  const double w = 2.0 * kPi * p.mode_frequency_hz;
+  c.mode_omega2 = w * w;
+  c.mode_two_zeta_omega = 2.0 * p.mode_damping_ratio * w;
+  c.participation = p.mode_participation;
+  c.phi = mode_shape(p, y);
+  c.drag_per_mass = c.phi * c.mode_omega2 / p.mode_stiffness_N_per_m;  // φ / m_modal
+  c.inv_tau = 1.0 / p.hose_time_constant_s;
+  // The delayed lag is given as tip lag per m/s² at Y = 0; as a drag force it is k · lag.
+  c.lag_force = p.mode_stiffness_N_per_m * p.hose_accel_lag_s2;
+  c.viscous = p.hose_viscous_drag_Ns_per_m;
+  c.coulomb = p.hose_coulomb_drag_N;
+  c.inv_coulomb_speed = 1.0 / p.hose_coulomb_speed_m_per_s;
   return c;
+}
+
+/// The hose drag on the carriage [N] from the link's state: its filtered acceleration
+/// (w − v_h)/τ, its velocity v_h.
+double hose_drag(const Coefficients& c, const double* y) noexcept {
+  const double v_h = y[kHoseVelocity];
+  const double a_h = (y[kHoseInner] - v_h) * c.inv_tau;
+  return c.lag_force * a_h + c.viscous * v_h + c.coulomb * std::tanh(v_h * c.inv_coulomb_speed);
 }
 
 /// Per-state absolute tolerances such that each state's share of the tip error stays below
 /// `error_tol` [m]: states with a small lever on the tip may be integrated more loosely.
 std::array<double, kStates> state_tolerances(const Coefficients& c, double error_tol) {
   std::array<double, kStates> a{};
-  const double compliance = 1.0 / c.kq;
-  const double omega_servo = std::sqrt(c.omega2);
-  const double servo_gain = (compliance * c.mc + c.tip_arm * c.yaw_moment / c.yaw_k) * c.omega2;
-  a[kServoError] = error_tol / servo_gain;
-  a[kServoRate] = a[kServoError] * omega_servo;
-  a[kYaw] = error_tol / std::max(c.tip_arm, 1e-3);
-  a[kYawRate] = a[kYaw] * std::sqrt(c.yaw_k / c.yaw_inertia);
-  a[kCarriage] = error_tol;
-  a[kCarriageRate] = error_tol * std::sqrt(c.kq / c.mc);
-  for (int k = 0; k < kLoads; ++k) {
-    const auto& l = c.load[static_cast<std::size_t>(k)];
-    const int i = kFirstLoad + 2 * k;
-    a[static_cast<std::size_t>(i)] = error_tol / (compliance * l.stiffness_N_per_m);
-    a[static_cast<std::size_t>(i + 1)] =
-        std::min(error_tol / (compliance * l.damping_Ns_per_m),
-                 a[static_cast<std::size_t>(i)] * std::sqrt(l.stiffness_N_per_m / l.mass_kg));
-  }
+  const double mode_omega = std::sqrt(c.mode_omega2);
+  // Tip lag per N of hose drag (static), and per m/s of hose velocity through the steepest
+  // drag slope (the Coulomb term's at rest).
+  const double per_newton = c.phi * c.drag_per_mass / c.mode_omega2;
+  const double slope =
+      c.viscous + c.coulomb * c.inv_coulomb_speed + c.lag_force * c.inv_tau;
+  // The servo error moves scale and tip together; it reaches the tip only through the drive's
+  // acceleration, ω_s² ε of it per metre.
+  a[kServoError] = error_tol * c.mode_omega2 / (c.phi * c.participation * c.omega2 + 1e-300);
+  a[kServoRate] = a[kServoError] * std::sqrt(c.omega2);
+  a[kMode] = error_tol / c.phi;
+  a[kModeRate] = a[kMode] * mode_omega;
+  a[kHoseInner] = error_tol / (per_newton * slope);
+  a[kHoseVelocity] = a[kHoseInner];
   return a;
 }
 
@@ -90,51 +97,33 @@ struct Forcing {
   motion::Segment segment;
 };
 
-/// Every state derivative. Returns the drive acceleration a_s.
+/// Every state derivative. Returns the drive acceleration a.
 double derivatives(const Coefficients& c,
                    const motion::MotionState& cmd,
                    const double* y,
                    double* dy) noexcept {
+  const double drag = hose_drag(c, y);
   const double v = cmd.velocity + y[kServoRate];  // drive velocity
-  double pull = 0.0;                              // the loads' pull on the carriage [N]
-  for (int k = 0; k < kLoads; ++k) {
-    const auto& l = c.load[static_cast<std::size_t>(k)];
-    pull += l.stiffness_N_per_m * y[kFirstLoad + 2 * k] +
-            l.damping_Ns_per_m * y[kFirstLoad + 2 * k + 1];
-  }
-  // Servo: PD loop with feed-forward; every force on the bridge disturbs it.
+  // Servo: PD loop with feed-forward; the hose drag and the bearings' drag disturb it.
   const double eps_dd = -c.ff_deficit * cmd.acceleration - c.omega2 * y[kServoError] -
-                        c.two_zeta_omega * y[kServoRate] - (pull + c.bearing_drag * v) * c.inv_mass;
+                        c.two_zeta_omega * y[kServoRate] - (drag + c.bearing_drag * v) * c.inv_mass;
   const double a = cmd.acceleration + eps_dd;  // drive acceleration
   dy[kServoError] = y[kServoRate];
   dy[kServoRate] = eps_dd;
-  // Drag loads: base-excited by the bridge, driven by a drag force that grows with speed.
-  const double v3 = v * v * v;
-  for (int k = 0; k < kLoads; ++k) {
-    const auto& l = c.load[static_cast<std::size_t>(k)];
-    const int i = kFirstLoad + 2 * k;
-    dy[i] = y[i + 1];
-    dy[i + 1] = (l.mass_kg * a + l.drag_linear_Ns_per_m * v + l.drag_cubic_Ns3_per_m3 * v3 -
-                 l.damping_Ns_per_m * y[i + 1] - l.stiffness_N_per_m * y[i]) /
-                l.mass_kg;
-  }
-  // Bridge yaw about the drive leg: inertia plus the loads' pull at the carriage.
-  dy[kYaw] = y[kYawRate];
-  dy[kYawRate] =
-      (c.yaw_moment * a + c.load_arm * pull - c.yaw_c * y[kYawRate] - c.yaw_k * y[kYaw]) /
-      c.yaw_inertia;
-  // Carriage and ram on the beam: inertia plus the loads' pull.
-  dy[kCarriage] = y[kCarriageRate];
-  dy[kCarriageRate] = (c.mc * a + pull - c.cq * y[kCarriageRate] - c.kq * y[kCarriage]) / c.mc;
+  // The structural mode: base-excited by the drive's acceleration, loaded by the hose drag.
+  dy[kMode] = y[kModeRate];
+  dy[kModeRate] = c.participation * a + c.drag_per_mass * drag - c.mode_omega2 * y[kMode] -
+                  c.mode_two_zeta_omega * y[kModeRate];
+  // The hose link: two equal first-order stages (critically damped) following the drive speed.
+  dy[kHoseInner] = (v - y[kHoseInner]) * c.inv_tau;
+  dy[kHoseVelocity] = (y[kHoseInner] - y[kHoseVelocity]) * c.inv_tau;
   return a;
 }
 
-/// Raw error x_tip − x_scale [m] and its rate.
-double tip_error(const Coefficients& c, const double* y) noexcept {
-  return -(c.tip_arm * y[kYaw] + y[kCarriage]);
-}
+/// Raw error x_tip − x_scale [m] and its rate: the tip lags by φ(Y) η.
+double tip_error(const Coefficients& c, const double* y) noexcept { return -c.phi * y[kMode]; }
 double tip_error_rate(const Coefficients& c, const double* y) noexcept {
-  return -(c.tip_arm * y[kYawRate] + y[kCarriageRate]);
+  return -c.phi * y[kModeRate];
 }
 
 int rhs(double t, const double* y, double* dy, void* user) noexcept {
@@ -196,7 +185,8 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
         "carriage position Y = {} m is outside 0 .. {} m", carriage_y_m, kMaxCarriageY));
   }
   motion::MoveProfile profile;
-  const Status planned = motion::MoveProfile::plan(move, profile);
+  const Status planned =
+      motion::MoveProfile::plan(controlled_move(impl_->machine.parameters, move), profile);
   if (!ok(planned)) {
     throw Error(std::string("cannot plan the move: ") + to_string(planned));
   }

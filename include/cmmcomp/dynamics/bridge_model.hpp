@@ -64,7 +64,9 @@ class BridgeSimulator {
   BridgeSimulator(const BridgeSimulator&) = delete;
   BridgeSimulator& operator=(const BridgeSimulator&) = delete;
 
-  /// Simulates `move` with the carriage at `carriage_y_m` [m] (0 = drive side, up to 2 m).
+  /// Simulates `move` with the carriage at `carriage_y_m` [m] (0 = drive side, up to 2 m). The
+  /// machine's controller runs it: its dwell and smoothing replace the move's
+  /// (controlled_move()), and `instants` are those of the controlled profile.
   /// Throws Error for an invalid move or Y (message says which), or when CVODE fails (message
   /// carries CVODE's flag and the time reached).
   SimulationResult simulate(const motion::ProbingMove& move, double carriage_y_m);
@@ -77,6 +79,6 @@ class BridgeSimulator {
 };
 
 /// Number of states in the model (for documentation and tests).
-inline constexpr int kBridgeStateCount = 12;
+inline constexpr int kBridgeStateCount = 6;
 
 }  // namespace cmmcomp::dynamics

@@ -3,19 +3,20 @@
 ///
 /// The lumped model (docs/machine-model.md) has four parts, each with physical parameters:
 ///  - servo: the drive follows the commanded profile through a position/velocity loop with
-///    acceleration feed-forward (finite bandwidth), disturbed by every force on the bridge;
-///  - bridge yaw: the drive acts on one leg, so inertia and the loads pulling on the carriage
-///    twist the bridge about Z through the yaw stiffness and damping of bearings and supports;
-///  - carriage: the carriage and ram bend laterally (X) on the beam under their inertia and the
-///    loads; the beam acts as a cantilever from the drive leg, so the compliance grows with Y³;
-///  - three speed-dependent drag loads (cable carrier, hoses, bellows and bearing drag, lumped):
-///    each a drag force (linear + cubic in speed) reaching the carriage through a
-///    mass-spring-damper, so it builds up and rings with its own time constant. These are
-///    phenomenological: identified from measurements, not drawn from a drawing.
+///    acceleration feed-forward, disturbed by the hose drag; its error moves scale and tip
+///    together, so it never enters tip − scale;
+///  - structure: the dominant X-direction mode of bridge and ram (10–50 Hz, lightly damped),
+///    excited by the drive's acceleration and by the hose drag at the carriage; its shape at the
+///    tip grows with the carriage position Y (the beam is a cantilever from the drive leg);
+///  - hose: the hose and cable-carrier drag (viscous plus Coulomb), reaching the carriage through
+///    a critically damped link, so it builds up and relaxes over its time constant;
+///  - controller: the settings that shape every move (a settling dwell at the pre-hit point, a
+///    command smoothing).
 /// Machine files are TOML (docs/machine-file.md); every key carries its unit in its name.
 #pragma once
 
 #include <cmmcomp/dynamics/parameter_table.hpp>
+#include <cmmcomp/motion/move_profile.hpp>
 #include <string>
 #include <vector>
 
@@ -24,36 +25,56 @@ namespace cmmcomp::dynamics {
 /// All physical parameters, SI units. Values of a default-constructed struct are placeholders;
 /// use default_machine() or load_machine().
 struct MachineParameters {
-  /// One speed-dependent drag load (see the file comment).
-  struct DragLoad {
-    double mass_kg = 1.0;                ///< moving mass [kg]
-    double stiffness_N_per_m = 100.0;    ///< attachment stiffness [N/m]
-    double damping_Ns_per_m = 10.0;      ///< attachment damping [N s/m]
-    double drag_linear_Ns_per_m = 0.0;   ///< drag force, linear term [N s/m]
-    double drag_cubic_Ns3_per_m3 = 0.0;  ///< drag force, cubic term [N s³/m³]
-  };
-  static constexpr int kDragLoads = 3;
-
   // servo
-  double servo_bandwidth_hz = 30.0;           ///< closed-loop position bandwidth [Hz]
-  double servo_damping_ratio = 0.7;           ///< closed-loop damping ratio [-]
-  double servo_feedforward_gain = 1.0;        ///< acceleration feed-forward gain [-]
-  double servo_moving_mass_kg = 400.0;        ///< mass the X drive accelerates [kg]
-  double servo_bearing_drag_Ns_per_m = 20.0;  ///< viscous drag of the air bearings [N s/m]
-  // bridge yaw
-  double yaw_inertia_kgm2 = 50.0;      ///< bridge yaw inertia about the drive leg [kg m²]
-  double yaw_static_moment_kgm = 5.0;  ///< bridge first moment of mass about the drive leg [kg m]
-  double yaw_stiffness_Nm_per_rad = 1e7;  ///< yaw stiffness of bearings and supports [N m/rad]
-  double yaw_damping_Nms_per_rad = 1e4;   ///< yaw damping [N m s/rad]
-  double scale_offset_m = 0.001;          ///< lever from the scale to the carriage at Y = 0 [m]
-  // carriage and ram on the beam
-  double carriage_mass_kg = 25.0;              ///< carriage + ram [kg]
-  double carriage_damping_Ns_per_m = 9000.0;   ///< lateral damping of the carriage [N s/m]
-  double beam_base_compliance_m_per_N = 1e-7;  ///< lateral compliance at Y = 0 [m/N]
-  double beam_bending_EI_Nm2 = 5e5;            ///< lateral bending stiffness EI of the beam [N m²]
-  // drag loads
-  DragLoad load[kDragLoads]{};
+  double servo_bandwidth_hz = 30.0;          ///< closed-loop position bandwidth [Hz]
+  double servo_damping_ratio = 0.7;          ///< closed-loop damping ratio [-]
+  double servo_feedforward_gain = 1.0;       ///< acceleration feed-forward gain [-]
+  double servo_moving_mass_kg = 400.0;       ///< mass the X drive accelerates [kg]
+  double servo_bearing_drag_Ns_per_m = 0.1;  ///< viscous drag of the air bearings [N s/m]
+  // structure: the dominant X mode of bridge and ram
+  double mode_frequency_hz = 22.0;        ///< natural frequency [Hz]
+  double mode_damping_ratio = 0.05;       ///< modal damping ratio [-]
+  double mode_stiffness_N_per_m = 3.3e6;  ///< modal stiffness at the tip for Y = 0 [N/m]
+  double mode_participation = 0.5;        ///< inertial participation factor Γ [-]
+  double mode_shape_growth = 0.5;         ///< φ(L) − 1: mode shape at the far end [-]
+  double beam_length_m = 0.5;             ///< carriage travel L along the beam [m]
+  // hose and cable carrier
+  double hose_time_constant_s = 0.1;          ///< critically damped link time constant [s]
+  double hose_viscous_drag_Ns_per_m = 200.0;  ///< viscous drag [N s/m]
+  double hose_coulomb_drag_N = 10.0;          ///< Coulomb drag [N]
+  double hose_coulomb_speed_m_per_s = 5e-4;   ///< speed over which the Coulomb drag builds [m/s]
+  double hose_accel_lag_s2 = 5e-5;            ///< delayed tip lag per acceleration [m/(m/s²)]
+  // controller
+  double controller_dwell_s = 0.8;       ///< settling dwell at the pre-hit point [s]
+  double controller_smoothing_s = 0.04;  ///< command smoothing (moving average) [s]
 };
+
+/// Shape of the structural mode at the tip with the carriage at `y` [m], normalised to 1 at
+/// Y = 0: φ(Y) = 1 + g (Y/L)³ (the beam bends as a cantilever from the drive leg).
+inline double mode_shape(const MachineParameters& p, double y) noexcept {
+  const double x = y / p.beam_length_m;
+  return 1.0 + p.mode_shape_growth * x * x * x;
+}
+
+/// Derived modal figures of a machine, for `cmmcomp-sim machine` and the docs.
+struct ModalSummary {
+  double servo_frequency_hz = 0, servo_damping_ratio = 0;
+  double mode_frequency_hz = 0, mode_damping_ratio = 0, mode_mass_kg = 0;
+  double hose_frequency_hz = 0, hose_damping_ratio = 1.0;  ///< the link: 1/(2π τ), critical
+  double smoothing_periods = 0;  ///< command smoothing in periods of the structural mode
+  /// Static tip lag per m/s² of acceleration and per N of hose drag at Y = 0, L/2, L.
+  double inertial_lag_um_per_m_s2[3] = {0, 0, 0};
+  double drag_compliance_um_per_N[3] = {0, 0, 0};
+};
+ModalSummary modal_summary(const MachineParameters& p);
+
+/// The move as this machine's controller runs it: the machine's dwell and smoothing replace the
+/// move's (a jerk limit of the move stays and the tighter one wins, docs/dynamic-errors.md).
+inline motion::ProbingMove controlled_move(const MachineParameters& p, motion::ProbingMove move) {
+  move.dwell = p.controller_dwell_s;
+  move.smoothing = p.controller_smoothing_s;
+  return move;
+}
 
 /// A named machine: its parameters and where they came from.
 struct Machine {
@@ -66,7 +87,7 @@ struct Machine {
 const std::vector<ParameterInfo<MachineParameters>>& machine_parameter_table();
 
 /// Version of the machine-file format this library reads and writes.
-inline constexpr int kMachineFileVersion = 1;
+inline constexpr int kMachineFileVersion = 2;
 
 /// The default machine, compiled in from data/machines/default.toml: identified against the
 /// paper's Tables 1, 2 and 4 (docs/machine-model.md).
@@ -74,7 +95,8 @@ Machine default_machine();
 
 /// Parses machine-file text; `source` names it in messages. Throws ConfigError
 /// "source:line: key 'section.key': what is wrong" for a syntax error, a wrong or missing
-/// format_version, an unknown key, a missing key, a non-numeric or non-physical value.
+/// format_version (a format-1 file gets a message naming the change and the command that writes
+/// a new start file), an unknown key, a missing key, a non-numeric or non-physical value.
 Machine parse_machine(const std::string& text, const std::string& source);
 /// Reads and parses a file (ConfigError when it cannot be opened).
 Machine load_machine(const std::string& path);

@@ -14,9 +14,12 @@ struct ParameterInfo {
   const char* key;          ///< key with its unit, e.g. "yaw_stiffness_Nm_per_rad"
   const char* description;  ///< one sentence for docs and messages
   double& (*ref)(Params&);  ///< the value it names inside a Params
-  double min;               ///< smallest physical value (inclusive)
-  double max;               ///< largest physical value (inclusive)
+  double min;               ///< smallest value a file may hold (inclusive): physical at all
+  double max;               ///< largest value a file may hold (inclusive)
   bool identifiable;        ///< fitted by `cmmcomp-sim identify` by default
+  double plausible_min;     ///< smallest plausible value on a real machine (identification bound)
+  double plausible_max;     ///< largest plausible value (identification bound)
+  const char* basis;        ///< where the plausible range comes from (one sentence, for the docs)
 
   double get(const Params& p) const { return ref(const_cast<Params&>(p)); }
   void set(Params& p, double value) const { ref(p) = value; }
