@@ -45,10 +45,15 @@ class Problem {
       l18_ = doe::paper_l18_design();
       l18_rows_ = dynamics::rows_from_design(l18_, targets_.anova.fixed);
     }
+    if (targets_.grid_mean.enabled) {
+      grid_rows_ = dynamics::rows_from_design(doe::full_factorial(doe::paper_table3_factors()),
+                                              targets_.grid_mean.fixed);
+    }
   }
 
   int residual_count() const {
-    return static_cast<int>(targets_.moves.size()) * 4 + (targets_.anova.enabled ? 20 : 0);
+    return static_cast<int>(targets_.moves.size()) * 4 + (targets_.anova.enabled ? 20 : 0) +
+           (targets_.grid_mean.enabled ? 4 : 0);
   }
 
   Machine machine_at(const double* log_values) const {
@@ -73,6 +78,7 @@ class Problem {
     opts.simulation.trace_rate_hz = 200.0;
     std::vector<io::DatasetRow> rows = targets_.moves;
     rows.insert(rows.end(), l18_rows_.begin(), l18_rows_.end());
+    rows.insert(rows.end(), grid_rows_.begin(), grid_rows_.end());
     rows = dynamics::simulate_dataset(m, rows, opts);
     std::vector<double> values;
     for (std::size_t i = 0; i < targets_.moves.size(); ++i) {
@@ -101,6 +107,16 @@ class Problem {
         for (double s : ss) values.push_back(100.0 * s / total);
       }
     }
+    if (targets_.grid_mean.enabled) {
+      const std::size_t first = targets_.moves.size() + l18_rows_.size();
+      std::array<double, 4> mean{};
+      for (std::size_t r = 0; r < grid_rows_.size(); ++r) {
+        const auto e = errors_of(rows[first + r], true);
+        for (std::size_t p = 0; p < 4; ++p)
+          mean[p] += e[p] / static_cast<double>(grid_rows_.size());
+      }
+      values.insert(values.end(), mean.begin(), mean.end());
+    }
     return values;
   }
 
@@ -113,6 +129,9 @@ class Problem {
     if (targets_.anova.enabled) {
       for (const auto& row : targets_.anova.weight_pct) v.insert(v.end(), row.begin(), row.end());
     }
+    if (targets_.grid_mean.enabled) {
+      v.insert(v.end(), targets_.grid_mean.mean_um.begin(), targets_.grid_mean.mean_um.end());
+    }
     return v;
   }
 
@@ -122,6 +141,11 @@ class Problem {
       v.insert(v.end(), options_.sigma_um.begin(), options_.sigma_um.end());
     }
     if (targets_.anova.enabled) v.insert(v.end(), 20, targets_.anova.sigma_pct);
+    if (targets_.grid_mean.enabled) {
+      for (double m : targets_.grid_mean.mean_um) {
+        v.push_back(targets_.grid_mean.relative_sigma * m);
+      }
+    }
     return v;
   }
 
@@ -137,6 +161,9 @@ class Problem {
         for (const char* s : kSourceNames) v.push_back(fmt::format("ANOVA {} {} weight %", p, s));
       }
     }
+    if (targets_.grid_mean.enabled) {
+      for (const char* p : kParamNames) v.push_back(fmt::format("grid mean |{}| um", p));
+    }
     return v;
   }
 
@@ -149,6 +176,7 @@ class Problem {
   std::vector<const Info*> free_;
   doe::Design l18_;
   std::vector<io::DatasetRow> l18_rows_;
+  std::vector<io::DatasetRow> grid_rows_;
 };
 
 /// Residuals (model − target)/σ with a forward-difference Jacobian whose columns are simulated
@@ -237,8 +265,8 @@ IdentificationReport identify_machine(const Machine& start,
                                       const IdentificationOptions& options) {
   std::string why;
   if (!options.is_valid(&why)) throw ConfigError("identification options: " + why);
-  if (targets.moves.empty() && !targets.anova.enabled) {
-    throw ConfigError("identification: no measured moves and no ANOVA targets");
+  if (targets.moves.empty() && !targets.anova.enabled && !targets.grid_mean.enabled) {
+    throw ConfigError("identification: no measured moves, ANOVA or grid-mean targets");
   }
   if (targets.anova.enabled && targets.anova.repeats < 1) {
     throw ConfigError("identification: ANOVA repeats must be >= 1");
@@ -272,6 +300,16 @@ IdentificationReport identify_machine(const Machine& start,
       throw ConfigError("identification: '" + key +
                         "' is 0 in the start machine; give it a positive start value to fit it");
     }
+    if (v < info->plausible_min || v > info->plausible_max) {
+      throw ConfigError(fmt::format(
+          "identification: '{}' = {} in the start machine is outside its plausible range "
+          "[{:g}, {:g}] ({})",
+          key,
+          v,
+          info->plausible_min,
+          info->plausible_max,
+          info->basis));
+    }
     x.push_back(std::log(v));
     report.free_parameters.push_back(key);
     report.start_values.push_back(v);
@@ -283,9 +321,12 @@ IdentificationReport identify_machine(const Machine& start,
   ceres_problem.AddResidualBlock(new SimulationCost(problem, n), nullptr, x.data());
   for (int i = 0; i < n; ++i) {
     const Info& info = *free[static_cast<std::size_t>(i)];
-    const double lo = info.min > 0.0 ? std::log(info.min) : x[static_cast<std::size_t>(i)] - 25.0;
+    // Identification stays inside the plausible range (docs/machine-file.md).
+    const double lo_value = std::max(info.min, info.plausible_min);
+    const double lo = lo_value > 0.0 ? std::log(lo_value) : x[static_cast<std::size_t>(i)] - 25.0;
     ceres_problem.SetParameterLowerBound(x.data(), i, lo);
-    ceres_problem.SetParameterUpperBound(x.data(), i, std::log(info.max));
+    ceres_problem.SetParameterUpperBound(
+        x.data(), i, std::log(std::min(info.max, info.plausible_max)));
   }
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
@@ -373,6 +414,63 @@ AnovaTargets read_anova_targets(const std::string& path) {
   for (int s = 0; s < 5; ++s) {
     if (!seen[static_cast<std::size_t>(s)]) {
       throw ConfigError(fmt::format("{}: no row for '{}'", path, kSourceNames[s]));
+    }
+  }
+  return t;
+}
+
+GridMeanTargets read_grid_mean_targets(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot open grid-mean targets");
+  GridMeanTargets t;
+  t.enabled = true;
+  std::string line;
+  int line_no = 0;
+  int parameter_col = -1, mean_col = -1;
+  std::array<bool, 4> seen{};
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (parameter_col < 0) {
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (cells[i] == "parameter") parameter_col = static_cast<int>(i);
+        if (cells[i] == "mean_before_um") mean_col = static_cast<int>(i);
+      }
+      if (parameter_col < 0 || mean_col < 0) {
+        throw ConfigError(fmt::format(
+            "{}:{}: needs the columns 'parameter' and 'mean_before_um'", path, line_no));
+      }
+      continue;
+    }
+    const auto at = [&](int c) -> std::string {
+      return static_cast<std::size_t>(c) < cells.size() ? cells[static_cast<std::size_t>(c)] : "";
+    };
+    int p = -1;
+    for (int k = 0; k < 4; ++k) {
+      if (at(parameter_col) == kParamNames[k]) p = k;
+    }
+    if (p < 0) {
+      throw ConfigError(fmt::format(
+          "{}:{}: unknown parameter '{}' (MPE, RPE, MAE, RAE)", path, line_no, at(parameter_col)));
+    }
+    try {
+      const double v = std::stod(at(mean_col));
+      if (!(v > 0.0 && std::isfinite(v))) throw std::invalid_argument("not positive");
+      t.mean_um[static_cast<std::size_t>(p)] = v;
+    } catch (const std::exception&) {
+      throw ConfigError(
+          fmt::format("{}:{}: 'mean_before_um' must be a positive number", path, line_no));
+    }
+    seen[static_cast<std::size_t>(p)] = true;
+  }
+  for (int p = 0; p < 4; ++p) {
+    if (!seen[static_cast<std::size_t>(p)]) {
+      throw ConfigError(fmt::format("{}: no row for '{}'", path, kParamNames[p]));
     }
   }
   return t;

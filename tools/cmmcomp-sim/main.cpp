@@ -318,7 +318,7 @@ int run_anova(const std::string& path, bool json) {
 }
 
 struct IdentifyCommand {
-  std::string measured, machine_path, output, anova_targets, free;
+  std::string measured, machine_path, output, anova_targets, grid_mean_targets, free;
   bool magnitudes = false;
   int max_iterations = 50, threads = 0;
   double anova_y_mm = 250;
@@ -333,6 +333,10 @@ int run_identify(const IdentifyCommand& cmd) {
   if (!cmd.anova_targets.empty()) {
     targets.anova = read_anova_targets(cmd.anova_targets);
     targets.anova.fixed.y_mm = cmd.anova_y_mm;
+  }
+  if (!cmd.grid_mean_targets.empty()) {
+    targets.grid_mean = read_grid_mean_targets(cmd.grid_mean_targets);
+    targets.grid_mean.fixed.y_mm = cmd.anova_y_mm;
   }
   IdentificationOptions options;
   options.max_iterations = cmd.max_iterations;
@@ -380,29 +384,55 @@ int run_identify(const IdentifyCommand& cmd) {
 }
 
 int run_paper(const std::string& machine_path, std::uint64_t seed, int seeds, bool check) {
-  const cmmcomp::dynamics::Machine machine = machine_from(machine_path);
+  using namespace cmmcomp::dynamics;
+  const Machine machine = machine_from(machine_path);
   std::printf("machine: %s (%s)\n\n", machine.name.c_str(), machine.description.c_str());
-  bool all = true;
+  // The noiseless simulations are shared by every seed; only the noise differs.
+  const PaperSimulations sims = simulate_paper_experiments(machine);
+  std::vector<int> held;
+  std::vector<std::string> names;
   for (int k = 0; k < seeds; ++k) {
-    const auto c = cmmcomp::dynamics::compare_with_paper(machine, seed + static_cast<unsigned>(k));
-    if (k == 0) std::fputs(cmmcomp::dynamics::format_paper_comparison(c).c_str(), stdout);
-    if (!c.all_passed()) {
-      all = false;
-      for (const auto& chk : c.checks) {
-        if (!chk.passed && k > 0) {
-          std::printf("seed %llu: FAIL %s: %s\n",
-                      static_cast<unsigned long long>(seed) + static_cast<unsigned>(k),
-                      chk.requirement.c_str(),
-                      chk.measured.c_str());
-        }
+    const std::uint64_t s = seed + static_cast<std::uint64_t>(k);
+    const PaperComparison c = compare_with_paper(sims, s);
+    if (k == 0) {
+      std::fputs(format_paper_comparison(c).c_str(), stdout);
+      held.assign(c.checks.size(), 0);
+      for (const PaperCheck& chk : c.checks) names.push_back(chk.requirement);
+    }
+    for (std::size_t i = 0; i < c.checks.size(); ++i) {
+      if (c.checks[i].passed) {
+        ++held[i];
+      } else if (k > 0) {
+        std::printf("seed %llu: FAIL %s: %s\n",
+                    static_cast<unsigned long long>(s),
+                    c.checks[i].requirement.c_str(),
+                    c.checks[i].measured.c_str());
       }
     }
   }
+  // Robust: every requirement holds for all but one in 50 seeds (49 of 50).
+  const int allowed = seeds / 50;
+  bool all = true;
+  int weakest = seeds;
+  for (std::size_t i = 0; i < held.size(); ++i) {
+    all = all && held[i] >= seeds - allowed;
+    weakest = std::min(weakest, held[i]);
+  }
   if (seeds > 1) {
-    std::printf("\n%d noise seeds from %llu: %s\n",
-                seeds,
-                static_cast<unsigned long long>(seed),
-                all ? "every requirement met for every seed" : "some requirements failed");
+    std::printf(
+        "\n%d noise seeds from %llu (Table 4 medians over seeds s .. s+19): the weakest "
+        "requirement held for %d of %d seeds (needed: %d): %s\n",
+        seeds,
+        static_cast<unsigned long long>(seed),
+        weakest,
+        seeds,
+        seeds - allowed,
+        all ? "robust" : "NOT robust");
+    for (std::size_t i = 0; i < held.size(); ++i) {
+      if (held[i] < seeds) std::printf("  %s: %d of %d\n", names[i].c_str(), held[i], seeds);
+    }
+  } else {
+    all = held.empty() || weakest == 1;
   }
   return check && !all ? 1 : 0;
 }
@@ -477,7 +507,11 @@ int main(int argc, char** argv) {
   identify->add_option("--anova-targets",
                        id.anova_targets,
                        "also fit L18 ANOVA weights (CSV in the layout of the paper's Table 4)");
-  identify->add_option("--anova-y", id.anova_y_mm, "carriage Y of the ANOVA experiment [mm]")
+  identify->add_option("--grid-mean-targets",
+                       id.grid_mean_targets,
+                       "mean |value| targets over the full 3^4 grid (the paper's Table 5 CSV)");
+  identify
+      ->add_option("--anova-y", id.anova_y_mm, "carriage Y of the ANOVA and grid experiments [mm]")
       ->capture_default_str();
   identify->add_flag("--magnitudes", id.magnitudes, "measured RPE/RAE are magnitudes");
   identify->add_option("--free", id.free, "comma-separated section.key list to fit (default all)");
@@ -498,8 +532,9 @@ int main(int argc, char** argv) {
   std::uint64_t paper_seed = 1;
   int paper_seeds = 1;
   bool paper_check = false;
-  CLI::App* paper =
-      app.add_subcommand("paper", "compare a machine with the paper's Tables 1, 2 and 4");
+  CLI::App* paper = app.add_subcommand(
+      "paper",
+      "compare a machine with the paper's Tables 1, 2, 4 and 5 and the smoothness requirement");
   paper->add_option("--machine", paper_machine, "machine file (default: embedded)");
   paper->add_option("--seed", paper_seed, "first noise seed")->capture_default_str();
   paper->add_option("--seeds", paper_seeds, "noise seeds to check")

@@ -30,12 +30,23 @@ struct AnovaTargets {
   double sigma_pct = 3.0;                             ///< share residual scale [percentage points]
 };
 
+/// Target mean |value| [µm] per parameter (MPE, |RPE|, MAE, |RAE|) over a full-factorial grid of
+/// the paper's Table 3 levels: the paper's Table 5 "mean before". The model's means are
+/// noiseless (the noise's effect on a mean |value| is far below the tolerance).
+struct GridMeanTargets {
+  bool enabled = false;
+  std::array<double, 4> mean_um{};  ///< [MPE, RPE, MAE, RAE]
+  dynamics::FixedSettings fixed{};  ///< PA, AA, Y of the grid
+  double relative_sigma = 0.05;     ///< residual scale, a fraction of each target
+};
+
 /// What to fit.
 struct IdentificationTargets {
   std::vector<io::DatasetRow> moves;  ///< measured moves: settings and their four errors [µm]
   /// Compare |RPE| and |RAE| (for data that reports magnitudes, like the paper's tables).
   bool compare_magnitudes = false;
   AnovaTargets anova{};
+  GridMeanTargets grid_mean{};
 };
 
 /// How to fit.
@@ -84,5 +95,10 @@ IdentificationReport identify_machine(const dynamics::Machine& start,
 /// rows PV, PD, AV, AD and error in any order; F columns ignored). Throws ConfigError naming the
 /// file and line.
 AnovaTargets read_anova_targets(const std::string& path);
+
+/// Reads grid-mean targets in the layout of the paper's Table 5 CSV
+/// (`parameter,mean_before_um,...`, rows MPE, MAE, RPE, RAE in any order; other columns ignored).
+/// Throws ConfigError naming the file and line.
+GridMeanTargets read_grid_mean_targets(const std::string& path);
 
 }  // namespace cmmcomp::training
