@@ -31,12 +31,12 @@ static_assert(kStates == kBridgeStateCount);
 struct Coefficients {
   double omega2 = 0, two_zeta_omega = 0, ff_deficit = 0, inv_mass = 0, bearing_drag = 0;
   double mode_omega2 = 0, mode_two_zeta_omega = 0;
-  double participation = 0;    // Γ: modal acceleration per drive acceleration
-  double drag_per_mass = 0;    // φ(Y) / m_modal: modal acceleration per N of hose drag
-  double inv_tau = 0;          // 1 / τ of the hose link
-  double lag_force = 0;        // N per m/s² of filtered acceleration (the delayed lag term)
+  double participation = 0;  // Γ: modal acceleration per drive acceleration
+  double drag_per_mass = 0;  // φ(Y) / m_modal: modal acceleration per N of hose drag
+  double inv_tau = 0;        // 1 / τ of the hose link
+  double lag_force = 0;      // N per m/s² of filtered acceleration (the delayed lag term)
   double viscous = 0, coulomb = 0, inv_coulomb_speed = 0;
-  double phi = 1;              // mode shape at the tip, φ(Y)
+  double phi = 1;  // mode shape at the tip, φ(Y)
 };
 
 Coefficients coefficients(const MachineParameters& p, double y) {
@@ -78,15 +78,16 @@ std::array<double, kStates> state_tolerances(const Coefficients& c, double error
   // Tip lag per N of hose drag (static), and per m/s of hose velocity through the steepest
   // drag slope (the Coulomb term's at rest).
   const double per_newton = c.phi * c.drag_per_mass / c.mode_omega2;
-  const double slope =
-      c.viscous + c.coulomb * c.inv_coulomb_speed + c.lag_force * c.inv_tau;
+  const double slope = c.viscous + c.coulomb * c.inv_coulomb_speed + c.lag_force * c.inv_tau;
   // The servo error moves scale and tip together; it reaches the tip only through the drive's
   // acceleration, ω_s² ε of it per metre.
   a[kServoError] = error_tol * c.mode_omega2 / (c.phi * c.participation * c.omega2 + 1e-300);
   a[kServoRate] = a[kServoError] * std::sqrt(c.omega2);
   a[kMode] = error_tol / c.phi;
   a[kModeRate] = a[kMode] * mode_omega;
-  a[kHoseInner] = error_tol / (per_newton * slope);
+  // Without hose drag the link's states do not reach the tip: any finite tolerance will do.
+  const double hose_lever = per_newton * slope;
+  a[kHoseInner] = hose_lever > 0.0 ? error_tol / hose_lever : 1.0;
   a[kHoseVelocity] = a[kHoseInner];
   return a;
 }

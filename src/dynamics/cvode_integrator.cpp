@@ -4,6 +4,7 @@
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <cmath>
 #include <cmmcomp/dynamics/integrator.hpp>
@@ -38,6 +39,7 @@ struct Integrator::Impl {
   double rtol = 0.0;
   SUNMatrix matrix = nullptr;
   SUNLinearSolver solver = nullptr;
+  SUNNonlinearSolver fixed_point = nullptr;
   void* cvode = nullptr;
   Rhs rhs = nullptr;
   Roots roots = nullptr;
@@ -49,6 +51,7 @@ struct Integrator::Impl {
 
   ~Impl() {
     if (cvode != nullptr) CVodeFree(&cvode);
+    if (fixed_point != nullptr) SUNNonlinSolFree(fixed_point);
     if (solver != nullptr) SUNLinSolFree(solver);
     if (matrix != nullptr) SUNMatDestroy(matrix);
     if (y != nullptr) N_VDestroy(y);
@@ -112,11 +115,20 @@ Integrator::Integrator(const IntegratorOptions& options,
   if (options.max_step > 0.0) {
     check(CVodeSetMaxStep(m.cvode, options.max_step) == CV_SUCCESS, "CVodeSetMaxStep");
   }
-  m.matrix = SUNDenseMatrix(state_size, state_size, m.context);
-  check(m.matrix != nullptr, "SUNDenseMatrix");
-  m.solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
-  check(m.solver != nullptr, "SUNLinSol_Dense");
-  check(CVodeSetLinearSolver(m.cvode, m.solver, m.matrix) == CV_SUCCESS, "CVodeSetLinearSolver");
+  if (options.bdf) {
+    // Stiff problems: Newton iteration with a dense direct linear solver.
+    m.matrix = SUNDenseMatrix(state_size, state_size, m.context);
+    check(m.matrix != nullptr, "SUNDenseMatrix");
+    m.solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
+    check(m.solver != nullptr, "SUNLinSol_Dense");
+    check(CVodeSetLinearSolver(m.cvode, m.solver, m.matrix) == CV_SUCCESS, "CVodeSetLinearSolver");
+  } else {
+    // Non-stiff problems (Adams–Moulton): fixed-point iteration needs no Jacobian and no
+    // linear solve, the cheaper step for a lightly damped oscillator.
+    m.fixed_point = SUNNonlinSol_FixedPoint(m.y, 0, m.context);
+    check(m.fixed_point != nullptr, "SUNNonlinSol_FixedPoint");
+    check(CVodeSetNonlinearSolver(m.cvode, m.fixed_point) == CV_SUCCESS, "CVodeSetNonlinearSolver");
+  }
   if (root_count > 0) {
     check(CVodeRootInit(m.cvode, root_count, &Impl::root_trampoline) == CV_SUCCESS,
           "CVodeRootInit");

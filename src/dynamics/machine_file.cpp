@@ -97,14 +97,15 @@ const std::vector<Info>& machine_parameter_table() {
        true,
        10.0,
        50.0,
-       "first bridge/ram modes of moving-bridge CMMs; the paper's MPE ~ a/w^2 points to 19-27 Hz"},
+       "first bridge/ram modes of moving-bridge CMMs, and the paper's MPE ~ a/w^2 points to 19-27 "
+       "Hz"},
       {"structure",
        "mode_damping_ratio",
        "modal damping ratio of that mode",
        &member<&P::mode_damping_ratio>,
        1e-4,
        2.0,
-       true,
+       false,
        0.02,
        0.1,
        "air films and bolted granite or aluminium joints dissipate little"},
@@ -117,7 +118,7 @@ const std::vector<Info>& machine_parameter_table() {
        false,
        1e6,
        2e7,
-       "k = m w^2 for a 100-200 kg modal mass at 10-50 Hz; probe-tip stiffness of a few N/um"},
+       "k = m w^2 for a 100-200 kg modal mass at 10-50 Hz, a probe-tip stiffness of a few N/um"},
       {"structure",
        "participation",
        "inertial participation factor of the mode (tip-normalised at Y = 0)",
@@ -127,7 +128,7 @@ const std::vector<Info>& machine_parameter_table() {
        true,
        0.1,
        1.6,
-       "Gamma = sum(m phi) / sum(m phi^2); 1.57 for a uniform cantilever, less for a localised "
+       "Gamma = sum(m phi) / sum(m phi^2): 1.57 for a uniform cantilever, less for a localised "
        "mode"},
       {"structure",
        "shape_growth",
@@ -138,7 +139,8 @@ const std::vector<Info>& machine_parameter_table() {
        true,
        0.0,
        3.0,
-       "phi(Y) = 1 + g (Y/L)^3, the beam a cantilever from the drive leg; Table 2 rises 1.6-1.9x"},
+       "phi(Y) = 1 + g (Y/L)^3, the beam a cantilever from the drive leg, and Table 2 rises "
+       "1.6-1.9x"},
       {"structure",
        "beam_length_m",
        "carriage travel L along the beam",
@@ -206,9 +208,9 @@ const std::vector<Info>& machine_parameter_table() {
        0.0,
        60.0,
        true,
-       0.0,
+       0.3,
        2.0,
-       "controller setting; 0.5-1 s (>= 3 hose time constants) lets the structure settle"},
+       "controller setting: 0.5-1 s (>= 3 hose time constants) lets the structure settle"},
       {"controller",
        "smoothing_s",
        "command smoothing: moving average of the commanded acceleration",
@@ -218,7 +220,7 @@ const std::vector<Info>& machine_parameter_table() {
        false,
        0.0,
        0.1,
-       "controller setting; one period of the dominant mode (20-100 ms) cancels its excitation"},
+       "controller setting: one period of the dominant mode (20-100 ms) cancels its excitation"},
   };
   return table;
 }
@@ -375,12 +377,40 @@ std::string format_machine(const Machine& machine) {
     }
     // "{}" writes the shortest text that reads back to the same double: fitted values
     // round-trip exactly.
+    const double v = info.get(machine.parameters);
     fmt::format_to(std::back_inserter(s),
-                   "{} = {}  # {}\n",
+                   "{} = {}  # {}{}\n",
                    info.key,
-                   info.get(machine.parameters),
-                   info.description);
+                   v,
+                   info.description,
+                   v < info.plausible_min || v > info.plausible_max
+                       ? fmt::format(" (OUTSIDE its plausible range {:g} .. {:g})",
+                                     info.plausible_min,
+                                     info.plausible_max)
+                       : "");
   }
+  const ModalSummary m = modal_summary(machine.parameters);
+  fmt::format_to(std::back_inserter(s),
+                 "\n# Derived (comments, not read back):\n"
+                 "#   servo loop:      {:.3g} Hz, damping ratio {:.3g}\n"
+                 "#   structural mode: {:.4g} Hz, damping ratio {:.3g}, modal mass {:.4g} kg\n"
+                 "#   hose link:       {:.3g} Hz (1/(2 pi tau)), damping ratio 1 (critical)\n"
+                 "#   smoothing:       {:.3g} periods of the structural mode\n"
+                 "#   tip lag per m/s^2 at Y = 0, L/2, L: {:.4g}, {:.4g}, {:.4g} um\n"
+                 "#   tip lag per N of hose drag at Y = 0, L/2, L: {:.4g}, {:.4g}, {:.4g} um\n",
+                 m.servo_frequency_hz,
+                 m.servo_damping_ratio,
+                 m.mode_frequency_hz,
+                 m.mode_damping_ratio,
+                 m.mode_mass_kg,
+                 m.hose_frequency_hz,
+                 m.smoothing_periods,
+                 m.inertial_lag_um_per_m_s2[0],
+                 m.inertial_lag_um_per_m_s2[1],
+                 m.inertial_lag_um_per_m_s2[2],
+                 m.drag_compliance_um_per_N[0],
+                 m.drag_compliance_um_per_N[1],
+                 m.drag_compliance_um_per_N[2]);
   return s;
 }
 

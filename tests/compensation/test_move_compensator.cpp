@@ -162,7 +162,9 @@ TEST(MoveCompensatorSigns, CorrectionIsPlusRaeAlongDirection) {
   errors::DynamicErrors e;
   motion::PhaseInstants at;
   at.positioning_accel_end = 0.2;
+  at.positioning_decel_start = 0.3;
   at.positioning_end = 0.5;
+  at.approach_start = 0.5;
   at.approach_accel_end = 0.7;
   at.touch = 1.0;
   ASSERT_EQ(errors::extract_dynamic_errors({time, raw_um, 2}, at, -1, e), Status::kOk);

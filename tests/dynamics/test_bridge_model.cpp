@@ -77,15 +77,63 @@ TEST(BridgeSimulator, BaselineErrorsAreFiniteAndOrdered) {
   EXPECT_GE(e.mae, 0.0);
 }
 
-TEST(BridgeSimulator, ResultCarriesThePlannedInstants) {
+TEST(BridgeSimulator, ResultCarriesTheInstantsOfTheControlledProfile) {
+  // The machine's controller runs the move: its dwell and smoothing shape the profile.
+  const MachineParameters& p = default_machine().parameters;
+  ASSERT_GT(p.controller_dwell_s, 0.0);
+  ASSERT_GT(p.controller_smoothing_s, 0.0);
   motion::MoveProfile profile;
-  ASSERT_EQ(motion::MoveProfile::plan(motion::baseline_move(), profile), Status::kOk);
+  ASSERT_EQ(motion::MoveProfile::plan(controlled_move(p, motion::baseline_move()), profile),
+            Status::kOk);
   const motion::PhaseInstants& a = baseline_traced().instants;
   const motion::PhaseInstants& b = profile.instants();
   EXPECT_EQ(a.positioning_accel_end, b.positioning_accel_end);
+  EXPECT_EQ(a.positioning_decel_start, b.positioning_decel_start);
   EXPECT_EQ(a.positioning_end, b.positioning_end);
+  EXPECT_EQ(a.approach_start, b.approach_start);
   EXPECT_EQ(a.approach_accel_end, b.approach_accel_end);
   EXPECT_EQ(a.touch, b.touch);
+  EXPECT_NEAR(a.approach_start - a.positioning_end, p.controller_dwell_s, 1e-12);
+  // Smoothing lengthens the 0.2 s ramp by the smoothing time.
+  EXPECT_NEAR(a.positioning_accel_end, 0.2 + p.controller_smoothing_s, 1e-12);
+}
+
+TEST(BridgeSimulator, TipLagFollowsTheModeShapeAlongTheBeam) {
+  // Errors grow monotonically from the drive side to the far end (Table 2's trend).
+  BridgeSimulator sim(default_machine());
+  double last = 0.0;
+  for (const double y : {0.0, 0.125, 0.25, 0.375, 0.5}) {
+    const double mpe = sim.simulate(motion::baseline_move(), y).errors_um.mpe;
+    EXPECT_GT(mpe, last) << "Y " << y;
+    last = mpe;
+  }
+}
+
+TEST(BridgeSimulator, WithoutTheModeExcitationOrTheHoseThereIsNoError) {
+  // An ideal machine (no participation, no hose drag) has no dynamic error at all: the servo's
+  // error moves scale and tip together.
+  Machine m = default_machine();
+  m.parameters.mode_participation = 1e-3;  // the smallest accepted value
+  m.parameters.hose_viscous_drag_Ns_per_m = 0.0;
+  m.parameters.hose_coulomb_drag_N = 0.0;
+  m.parameters.hose_accel_lag_s2 = 0.0;
+  const SimulationResult r = BridgeSimulator(m).simulate(motion::baseline_move(), 0.25);
+  const SimulationResult full =
+      BridgeSimulator(default_machine()).simulate(motion::baseline_move(), 0.25);
+  EXPECT_LT(r.errors_um.mpe, 0.02 * full.errors_um.mpe);
+  EXPECT_LT(std::fabs(r.errors_um.rae), 1e-3);
+}
+
+TEST(BridgeSimulator, DwellErasesThePositioningHistoryFromTheApproach) {
+  // MAE and RAE do not depend on PV or PD once the dwell has let the hose link settle.
+  BridgeSimulator sim(default_machine());
+  const SimulationResult slow =
+      sim.simulate(motion::probing_move_mm(40, 200, 40, 12, 60, 10), 0.25);
+  const SimulationResult fast =
+      sim.simulate(motion::probing_move_mm(100, 200, 80, 12, 60, 10), 0.25);
+  EXPECT_NEAR(slow.errors_um.rae, fast.errors_um.rae, 1e-3);
+  EXPECT_NEAR(slow.errors_um.mae, fast.errors_um.mae, 1e-3);
+  EXPECT_GT(fast.errors_um.mpe, slow.errors_um.mpe);
 }
 
 TEST(BridgeSimulator, TraceRunsFromZeroToTheTouchThroughEveryInstant) {

@@ -108,6 +108,59 @@ TEST(MachineFile, DefaultMachineParsesAndIsPhysical) {
   }
 }
 
+TEST(MachineFile, EveryParameterHasAPlausibleRangeWithABasisThatHoldsTheDefaultMachine) {
+  const Machine m = default_machine();
+  for (const Info& info : machine_parameter_table()) {
+    EXPECT_LE(info.min, info.plausible_min) << full_key(info);
+    EXPECT_LT(info.plausible_min, info.plausible_max) << full_key(info);
+    EXPECT_LE(info.plausible_max, info.max) << full_key(info);
+    ASSERT_NE(info.basis, nullptr) << full_key(info);
+    EXPECT_GT(std::string(info.basis).size(), 10U) << full_key(info);
+    const double v = info.get(m.parameters);
+    EXPECT_GE(v, info.plausible_min) << full_key(info);
+    EXPECT_LE(v, info.plausible_max) << full_key(info);
+  }
+}
+
+TEST(MachineFile, FormatOneFileNamesTheChangeAndTheCommand) {
+  std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+  const int i = find_line(lines, "format_version");
+  ASSERT_GE(i, 0);
+  lines[static_cast<std::size_t>(i)] = "format_version = 1";
+  const std::string msg = error_of(join_lines(lines));
+  EXPECT_TRUE(contains(msg, at_line(i + 1))) << msg;
+  EXPECT_TRUE(contains(msg, "format_version 1 is the drag-load machine model")) << msg;
+  EXPECT_TRUE(contains(msg, "cmmcomp-sim machine -o")) << msg;
+}
+
+TEST(MachineFile, FormattedFileMarksImplausibleValuesAndPrintsTheModalFigures) {
+  Machine m = default_machine();
+  const std::string plain = format_machine(m);
+  EXPECT_FALSE(contains(plain, "OUTSIDE")) << plain;
+  EXPECT_TRUE(contains(plain, "# Derived")) << plain;
+  EXPECT_TRUE(contains(plain, "structural mode:")) << plain;
+  m.parameters.mode_damping_ratio = 0.5;  // physical, but no bridge mode is that damped
+  const std::string marked = format_machine(m);
+  EXPECT_TRUE(contains(marked, "OUTSIDE its plausible range 0.02 .. 0.1")) << marked;
+  // Still a valid file: the marks and the derived figures are comments.
+  EXPECT_EQ(parse_machine(marked, kSource).parameters.mode_damping_ratio, 0.5);
+}
+
+TEST(MachineFile, ModalSummaryDerivesMassAndLagsFromTheParameters) {
+  MachineParameters p = default_machine().parameters;
+  p.mode_frequency_hz = 20.0;
+  p.mode_stiffness_N_per_m = 4e6;
+  p.mode_participation = 0.5;
+  p.mode_shape_growth = 1.0;
+  const double omega = 2.0 * 3.14159265358979323846 * 20.0;
+  const ModalSummary s = modal_summary(p);
+  EXPECT_NEAR(s.mode_mass_kg, 4e6 / (omega * omega), 1e-9);
+  EXPECT_NEAR(s.inertial_lag_um_per_m_s2[0], 1e6 * 0.5 / (omega * omega), 1e-9);
+  EXPECT_NEAR(s.inertial_lag_um_per_m_s2[2], 2.0 * s.inertial_lag_um_per_m_s2[0], 1e-9);
+  EXPECT_NEAR(s.drag_compliance_um_per_N[1], 1e6 * 1.125 * 1.125 / 4e6, 1e-12);  // φ(L/2)²
+  EXPECT_NEAR(s.drag_compliance_um_per_N[2], 4.0 * s.drag_compliance_um_per_N[0], 1e-12);
+}
+
 TEST(MachineFile, TableHasUniqueKeysAndCoversDistinctFields) {
   const auto& table = machine_parameter_table();
   for (std::size_t i = 0; i < table.size(); ++i) {
@@ -212,7 +265,7 @@ TEST(MachineFile, WrongFormatVersionNamesItsLine) {
   std::vector<std::string> lines = split_lines(format_machine(default_machine()));
   const int i = find_line(lines, "format_version");
   ASSERT_GE(i, 0);
-  for (const char* bad : {"2", "0", "\"1\"", "1.0"}) {
+  for (const char* bad : {"3", "0", "\"2\"", "2.0"}) {
     lines[static_cast<std::size_t>(i)] = std::string("format_version = ") + bad;
     const std::string msg = error_of(join_lines(lines));
     EXPECT_TRUE(contains(msg, at_line(i + 1))) << bad << ": " << msg;
