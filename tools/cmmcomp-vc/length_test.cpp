@@ -19,8 +19,8 @@ void LengthProgram::validate() const {
   }
   if (repeats < 1) throw ConfigError("--repeats must be at least 1");
   if (!std::isfinite(x0_mm)) throw ConfigError("x0 must be finite");
-  (void)time_per_point_s(fast);
-  (void)time_per_point_s(slow);
+  (void)time_per_point_s(fast, dwell_s, smoothing_s);
+  (void)time_per_point_s(slow, dwell_s, smoothing_s);
 }
 
 compensation::MoveRequest request_for(const ProbeSetting& s, Face face, double y_mm) {
@@ -57,8 +57,10 @@ LengthTestResult run_length_test(const LengthProgram& program,
     result.agent_labels.push_back(a->label());
     result.agent_places.push_back(a->where());
   }
-  result.fast_time_per_point_s = time_per_point_s(program.fast);
-  result.slow_time_per_point_s = time_per_point_s(program.slow);
+  result.fast_time_per_point_s =
+      time_per_point_s(program.fast, program.dwell_s, program.smoothing_s);
+  result.slow_time_per_point_s =
+      time_per_point_s(program.slow, program.dwell_s, program.smoothing_s);
 
   const std::size_t n_agents = agents.size();
   const std::size_t n_y = program.y_mm.size();
@@ -79,7 +81,7 @@ LengthTestResult run_length_test(const LengthProgram& program,
   const ProbeSetting* settings[2] = {&program.slow, &program.fast};
   for (const ProbeSetting* s : settings) {
     const bool fast = s == &program.fast;
-    const double time_s = time_per_point_s(*s);
+    const double time_s = time_per_point_s(*s, program.dwell_s, program.smoothing_s);
     for (std::size_t iy = 0; iy < n_y; ++iy) {
       for (std::size_t il = 0; il < n_l; ++il) {
         CaseResult& c = result.cases[iy * n_l + il];

@@ -22,6 +22,10 @@ struct LengthProgram {
   int repeats = 3;     ///< measurements of each length per case (as ISO 10360-2)
   ProbeSetting fast = default_fast_setting();  ///< compensated setting
   ProbeSetting slow = default_slow_setting();  ///< uncompensated reference setting
+  /// The machine controller's settings that shape every move (the machine file's [controller]):
+  /// they count in the time per point.
+  double dwell_s = 0.0;
+  double smoothing_s = 0.0;
 
   /// Throws ConfigError when a list is empty, a length is not positive, repeats < 1, or a setting
   /// cannot be planned.

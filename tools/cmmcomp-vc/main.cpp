@@ -79,6 +79,9 @@ int run(const Options& opt) {
                                                  ? cmmcomp::dynamics::default_machine()
                                                  : cmmcomp::dynamics::load_machine(opt.machine);
   TwinProbe twin(machine, noise);
+  // The twin's controller dwells and smooths every move: that time counts per point.
+  program.dwell_s = machine.parameters.controller_dwell_s;
+  program.smoothing_s = machine.parameters.controller_smoothing_s;
 
   std::vector<std::unique_ptr<CorrectionSource>> links;
   for (const AgentSpec& s : specs) {

@@ -74,9 +74,12 @@ motion::ProbingMove move_of(const ProbeSetting& s) noexcept {
   return motion::probing_move_mm(s.pv_mm_s, s.pa_mm_s2, s.pd_mm, s.av_mm_s, s.aa_mm_s2, s.ad_mm);
 }
 
-double time_per_point_s(const ProbeSetting& s) {
+double time_per_point_s(const ProbeSetting& s, double dwell_s, double smoothing_s) {
+  motion::ProbingMove move = move_of(s);
+  move.dwell = dwell_s;
+  move.smoothing = smoothing_s;
   motion::MoveProfile profile;
-  if (!ok(motion::MoveProfile::plan(move_of(s), profile))) {
+  if (!ok(motion::MoveProfile::plan(move, profile))) {
     throw Error("setting '" + s.name + "' cannot be planned (a value out of range)");
   }
   return profile.instants().touch;

@@ -39,6 +39,6 @@ motion::ProbingMove move_of(const ProbeSetting& s) noexcept;
 /// Time from the start of the positioning move to the touch [s], from the planned profiles
 /// (positioning from rest to rest over PD, then the approach over AD). Throws Error when the
 /// setting cannot be planned.
-double time_per_point_s(const ProbeSetting& s);
+double time_per_point_s(const ProbeSetting& s, double dwell_s = 0.0, double smoothing_s = 0.0);
 
 }  // namespace cmmcomp::vc

@@ -160,6 +160,9 @@ TEST(ProbeSetting, TimePerPointIsPositioningPlusApproach) {
   EXPECT_NEAR(time_per_point_s(fast), 60.0 / 100 + 100.0 / 200 + 10.0 / 16 + 16.0 / 120, 1e-9);
   const ProbeSetting slow = default_slow_setting();
   EXPECT_NEAR(time_per_point_s(slow), 60.0 / 20 + 20.0 / 200 + 2.0 / 1 + 1.0 / 120, 1e-9);
+  // The controller's dwell adds itself. Smoothing over T lengthens every ramp by T and shortens
+  // the cruises by the distance that takes: positioning lasts T longer, the approach T/2.
+  EXPECT_NEAR(time_per_point_s(fast, 0.5, 0.04), time_per_point_s(fast) + 0.5 + 1.5 * 0.04, 1e-9);
 }
 
 TEST(ProbeSetting, ParsesOverridesAndRejectsNonsense) {
