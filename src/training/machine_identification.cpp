@@ -33,6 +33,25 @@ std::array<double, 4> errors_of(const io::DatasetRow& r, bool magnitudes) {
           magnitudes ? std::fabs(r.rae_um) : r.rae_um};
 }
 
+/// Calls `line(line_no, cells)` for every line of a small CSV table that is neither empty nor a
+/// '#' comment (the header included), with a trailing CR removed. ConfigError when `path` cannot
+/// be opened (naming `what`).
+template <typename Line>
+void for_each_csv_line(const std::string& path, const char* what, Line line) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot open " + what);
+  int line_no = 0;
+  for (std::string text; std::getline(in, text);) {
+    ++line_no;
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    if (text.empty() || text[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(text);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    line(line_no, cells);
+  }
+}
+
 /// Everything one evaluation of the residuals needs; evaluations are independent.
 class Problem {
  public:
@@ -374,22 +393,11 @@ IdentificationReport identify_machine(const Machine& start,
 }
 
 AnovaTargets read_anova_targets(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path + ": cannot open ANOVA targets");
   AnovaTargets t;
   t.enabled = true;
-  std::string line;
-  int line_no = 0;
   std::map<std::string, int> column;
   std::array<bool, 5> seen{};
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+  for_each_csv_line(path, "ANOVA targets", [&](int line_no, const std::vector<std::string>& cells) {
     if (column.empty()) {
       for (std::size_t i = 0; i < cells.size(); ++i) column[cells[i]] = static_cast<int>(i);
       for (const char* c :
@@ -398,7 +406,7 @@ AnovaTargets read_anova_targets(const std::string& path) {
           throw ConfigError(fmt::format("{}:{}: missing column '{}'", path, line_no, c));
         }
       }
-      continue;
+      return;
     }
     const std::string factor = cells.at(static_cast<std::size_t>(column["factor"]));
     int source = -1;
@@ -421,7 +429,7 @@ AnovaTargets read_anova_targets(const std::string& path) {
       }
     }
     seen[static_cast<std::size_t>(source)] = true;
-  }
+  });
   for (int s = 0; s < 5; ++s) {
     if (!seen[static_cast<std::size_t>(s)]) {
       throw ConfigError(fmt::format("{}: no row for '{}'", path, kSourceNames[s]));
@@ -431,54 +439,47 @@ AnovaTargets read_anova_targets(const std::string& path) {
 }
 
 GridMeanTargets read_grid_mean_targets(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path + ": cannot open grid-mean targets");
   GridMeanTargets t;
   t.enabled = true;
-  std::string line;
-  int line_no = 0;
   int parameter_col = -1, mean_col = -1;
   std::array<bool, 4> seen{};
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (parameter_col < 0) {
-      for (std::size_t i = 0; i < cells.size(); ++i) {
-        if (cells[i] == "parameter") parameter_col = static_cast<int>(i);
-        if (cells[i] == "mean_before_um") mean_col = static_cast<int>(i);
-      }
-      if (parameter_col < 0 || mean_col < 0) {
-        throw ConfigError(fmt::format(
-            "{}:{}: needs the columns 'parameter' and 'mean_before_um'", path, line_no));
-      }
-      continue;
-    }
-    const auto at = [&](int c) -> std::string {
-      return static_cast<std::size_t>(c) < cells.size() ? cells[static_cast<std::size_t>(c)] : "";
-    };
-    int p = -1;
-    for (int k = 0; k < 4; ++k) {
-      if (at(parameter_col) == kParamNames[k]) p = k;
-    }
-    if (p < 0) {
-      throw ConfigError(fmt::format(
-          "{}:{}: unknown parameter '{}' (MPE, RPE, MAE, RAE)", path, line_no, at(parameter_col)));
-    }
-    try {
-      const double v = std::stod(at(mean_col));
-      if (!(v > 0.0 && std::isfinite(v))) throw std::invalid_argument("not positive");
-      t.mean_um[static_cast<std::size_t>(p)] = v;
-    } catch (const std::exception&) {
-      throw ConfigError(
-          fmt::format("{}:{}: 'mean_before_um' must be a positive number", path, line_no));
-    }
-    seen[static_cast<std::size_t>(p)] = true;
-  }
+  for_each_csv_line(
+      path, "grid-mean targets", [&](int line_no, const std::vector<std::string>& cells) {
+        if (parameter_col < 0) {
+          for (std::size_t i = 0; i < cells.size(); ++i) {
+            if (cells[i] == "parameter") parameter_col = static_cast<int>(i);
+            if (cells[i] == "mean_before_um") mean_col = static_cast<int>(i);
+          }
+          if (parameter_col < 0 || mean_col < 0) {
+            throw ConfigError(fmt::format(
+                "{}:{}: needs the columns 'parameter' and 'mean_before_um'", path, line_no));
+          }
+          return;
+        }
+        const auto at = [&](int c) -> std::string {
+          return static_cast<std::size_t>(c) < cells.size() ? cells[static_cast<std::size_t>(c)]
+                                                            : "";
+        };
+        int p = -1;
+        for (int k = 0; k < 4; ++k) {
+          if (at(parameter_col) == kParamNames[k]) p = k;
+        }
+        if (p < 0) {
+          throw ConfigError(fmt::format("{}:{}: unknown parameter '{}' (MPE, RPE, MAE, RAE)",
+                                        path,
+                                        line_no,
+                                        at(parameter_col)));
+        }
+        try {
+          const double v = std::stod(at(mean_col));
+          if (!(v > 0.0 && std::isfinite(v))) throw std::invalid_argument("not positive");
+          t.mean_um[static_cast<std::size_t>(p)] = v;
+        } catch (const std::exception&) {
+          throw ConfigError(
+              fmt::format("{}:{}: 'mean_before_um' must be a positive number", path, line_no));
+        }
+        seen[static_cast<std::size_t>(p)] = true;
+      });
   for (int p = 0; p < 4; ++p) {
     if (!seen[static_cast<std::size_t>(p)]) {
       throw ConfigError(fmt::format("{}: no row for '{}'", path, kParamNames[p]));

@@ -357,15 +357,24 @@ TEST(MoveCompensatorHotSwap, ReaderSeesOneWholeModelAtATime) {
       calls.fetch_add(1, std::memory_order_relaxed);
     }
   });
-  for (int i = 0; i < 1000; ++i) {
-    const bool even = i % 2 == 0;
+  // The test waits for what it needs, never for luck: the swaps start once the reader is
+  // demonstrably running, and go on until it has read across many of them and seen both models
+  // (on a loaded 2-core machine the writer could otherwise finish before the reader ran).
+  while (calls.load(std::memory_order_relaxed) == 0) std::this_thread::yield();
+  std::uint64_t publishes = 0;
+  while (publishes < 1000 || calls.load(std::memory_order_relaxed) < 2000 ||
+         seen_a.load(std::memory_order_relaxed) == 0 ||
+         seen_b.load(std::memory_order_relaxed) == 0) {
+    const bool even = publishes % 2 == 0;
     ASSERT_EQ(comp.publish(0, even ? b : a, even ? 2u : 1u), Status::kOk);
-    if (i % 50 == 0) std::this_thread::yield();
+    if (++publishes % 50 == 0) std::this_thread::yield();
   }
   done.store(true, std::memory_order_release);
   reader.join();
   EXPECT_EQ(mixed.load(), 0u);
-  EXPECT_GT(calls.load(), 0u);
+  EXPECT_GE(calls.load(), 2000u);
+  EXPECT_GT(seen_a.load(), 0u);
+  EXPECT_GT(seen_b.load(), 0u);
   std::printf("hot swap: %llu calls, %llu from model A, %llu from model B\n",
               static_cast<unsigned long long>(calls.load()),
               static_cast<unsigned long long>(seen_a.load()),

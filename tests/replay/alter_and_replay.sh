@@ -28,8 +28,8 @@ out="$("$replay" "$altered" --model "$model" --quiet 2>&1)"; status=$?
 set -e
 printf '%s\n' "$out"
 [ "$status" -eq 1 ] || { echo "alter_and_replay: exit $status, wanted 1 (mismatch)" >&2; exit 1; }
-printf '%s\n' "$out" | grep -qE "first difference: byte $byte, $field" ||
+grep -qE "first difference: byte $byte, $field" <<<"$out" ||
   { echo "alter_and_replay: the report does not name byte $byte ($field)" >&2; exit 1; }
-printf '%s\n' "$out" | grep -qE "MISMATCH at .*:$line " ||
+grep -qE "MISMATCH at .*:$line " <<<"$out" ||
   { echo "alter_and_replay: the report does not name line $line" >&2; exit 1; }
 echo "alter_and_replay: line $line byte $byte ($field) reported"

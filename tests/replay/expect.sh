@@ -8,5 +8,5 @@ want="$1"; regex="$2"; shift 2
 out="$("$@" 2>&1)"; got=$?
 printf '%s\n' "$out"
 [ "$got" -eq "$want" ] || { echo "expect: exit status $got, wanted $want" >&2; exit 1; }
-printf '%s\n' "$out" | grep -qE -- "$regex" || { echo "expect: output does not match '$regex'" >&2; exit 1; }
+grep -qE -- "$regex" <<<"$out" || { echo "expect: output does not match '$regex'" >&2; exit 1; }
 echo "expect: exit $got and '$regex' as wanted"

@@ -16,5 +16,5 @@ ts="$(head -n 1 "$recording" | cut -d' ' -f1)"
 } >"$copy"
 out="$("$replay" "$copy" --model "$model" --quiet)"
 printf '%s\n' "$out"
-printf '%s\n' "$out" | grep -q "(every answer byte for byte); skipped 1 heartbeats, 1 other" ||
+grep -q "(every answer byte for byte); skipped 1 heartbeats, 1 other" <<<"$out" ||
   { echo "skip_foreign_frames: the heartbeat and the foreign frame were not skipped and counted" >&2; exit 1; }

@@ -104,6 +104,13 @@ int run_move(const MoveCommand& cmd) {
     std::printf(
         "MPE %9.3f um\nRPE %9.3f um\nMAE %9.3f um\nRAE %9.3f um\n", e.mpe, e.rpe, e.mae, e.rae);
     std::printf(
+        "(RPE at the deceleration start, %.4f s; MAE from the approach start after the %.3f s "
+        "dwell, %.4f s; RAE at the touch, %.4f s)\n",
+        r.instants.positioning_decel_start,
+        sim.machine().parameters.controller_dwell_s,
+        r.instants.approach_start,
+        r.instants.touch);
+    std::printf(
         "(CVODE: %ld steps, %ld right-hand-side evaluations)\n", r.stats.steps, r.stats.rhs_evals);
   }
   if (!cmd.trace_path.empty()) {
