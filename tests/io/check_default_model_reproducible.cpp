@@ -41,11 +41,15 @@ double largest_difference(const File& a, const File& b) {
   return worst;
 }
 
-// Tolerance 1e-4 µm (0.1 nm): the twin, the designs and the training are deterministic; what
+// Tolerance 0.05 µm (a fifth of the smallest noise floor, RAE's 0.24 µm): the twin, the designs
+// and the training are deterministic; what
 // differs between builds is round-off: Eigen's SIMD width inside Ceres (it follows -march), and
 // the summation order of the network itself when its kernel changes. LM amplifies round-off
 // rather than damping it: reordering the evaluator's sums moved the 4-input model's predictions
-// by 1.2e-5 µm. Any real change of data or method moves them by micrometres.
+// by 1.2e-5 µm. The format-2 twin's steep Coulomb regularisation (0.1 mm/s) passes the
+// portable build's different libm/SIMD round-off into CVODE's step choices: the ASan build
+// (portable x86-64) retrains to within 0.029 µm of the x86-64-v3 model (measured 2026-12-02).
+// Any real change of data or method moves them by micrometres.
 TEST(DefaultModel, ScriptReproducesIt) {
   using namespace cmmcomp;
   ASSERT_FALSE(g_retrained.empty())
@@ -60,7 +64,7 @@ TEST(DefaultModel, ScriptReproducesIt) {
         EXPECT_EQ(c.training.data_file_sha256, a.training.data_file_sha256)
             << "the script's training data changed";
         const double worst = largest_difference(c, a);
-        EXPECT_LT(worst, 1e-4) << "largest prediction difference " << worst << " um";
+        EXPECT_LT(worst, 0.05) << "largest prediction difference " << worst << " um";
       },
       committed);
 }
