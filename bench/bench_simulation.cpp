@@ -6,6 +6,9 @@
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace {
 
 using namespace cmmcomp;
@@ -23,6 +26,36 @@ void BM_BaselineMove(benchmark::State& state) {
   state.counters["root_evals"] = static_cast<double>(r.stats.root_evals);
 }
 BENCHMARK(BM_BaselineMove)->Unit(benchmark::kMillisecond);
+
+// Cost against accuracy: the baseline move at rtol 10^-k (atol 10^-(k+3) m), k = state.range(0).
+// max_dev_um is the largest change of the four parameters against rtol 1e-10 / atol 1e-13 m, so
+// one run shows what each tolerance costs and buys.
+void BM_BaselineMoveTolerance(benchmark::State& state) {
+  const int k = static_cast<int>(state.range(0));
+  dynamics::SimulationOptions tight;
+  tight.integrator.relative_tolerance = 1e-10;
+  tight.integrator.absolute_tolerance = 1e-13;
+  const auto reference =
+      dynamics::BridgeSimulator(dynamics::default_machine(), tight).simulate(motion::baseline_move(), 0.25);
+  dynamics::SimulationOptions options;
+  options.integrator.relative_tolerance = std::pow(10.0, -k);
+  options.integrator.absolute_tolerance = std::pow(10.0, -(k + 3));
+  dynamics::BridgeSimulator sim(dynamics::default_machine(), options);
+  dynamics::SimulationResult r;
+  for (auto _ : state) {
+    r = sim.simulate(motion::baseline_move(), 0.25);
+    benchmark::DoNotOptimize(r.errors_um);
+  }
+  double dev = 0.0;
+  for (const auto member : {&errors::DynamicErrors::mpe, &errors::DynamicErrors::rpe,
+                            &errors::DynamicErrors::mae, &errors::DynamicErrors::rae}) {
+    dev = std::max(dev, std::abs(r.errors_um.*member - reference.errors_um.*member));
+  }
+  state.counters["cvode_steps"] = static_cast<double>(r.stats.steps);
+  state.counters["rhs_evals"] = static_cast<double>(r.stats.rhs_evals);
+  state.counters["max_dev_um"] = dev;
+}
+BENCHMARK(BM_BaselineMoveTolerance)->DenseRange(5, 8)->Unit(benchmark::kMillisecond);
 
 // The slowest L18 corner: PV 100 over PD 80, AV 16 over AD 15.
 void BM_FastMove(benchmark::State& state) {
