@@ -2,12 +2,11 @@
 /// @file Cost of the digital twin: one baseline move, and the training + test datasets.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
-
-#include <algorithm>
-#include <cmath>
 
 namespace {
 
@@ -35,8 +34,8 @@ void BM_BaselineMoveTolerance(benchmark::State& state) {
   dynamics::SimulationOptions tight;
   tight.integrator.relative_tolerance = 1e-10;
   tight.integrator.absolute_tolerance = 1e-13;
-  const auto reference =
-      dynamics::BridgeSimulator(dynamics::default_machine(), tight).simulate(motion::baseline_move(), 0.25);
+  const auto reference = dynamics::BridgeSimulator(dynamics::default_machine(), tight)
+                             .simulate(motion::baseline_move(), 0.25);
   dynamics::SimulationOptions options;
   options.integrator.relative_tolerance = std::pow(10.0, -k);
   options.integrator.absolute_tolerance = std::pow(10.0, -(k + 3));
@@ -47,8 +46,10 @@ void BM_BaselineMoveTolerance(benchmark::State& state) {
     benchmark::DoNotOptimize(r.errors_um);
   }
   double dev = 0.0;
-  for (const auto member : {&errors::DynamicErrors::mpe, &errors::DynamicErrors::rpe,
-                            &errors::DynamicErrors::mae, &errors::DynamicErrors::rae}) {
+  for (const auto member : {&errors::DynamicErrors::mpe,
+                            &errors::DynamicErrors::rpe,
+                            &errors::DynamicErrors::mae,
+                            &errors::DynamicErrors::rae}) {
     dev = std::max(dev, std::abs(r.errors_um.*member - reference.errors_um.*member));
   }
   state.counters["cvode_steps"] = static_cast<double>(r.stats.steps);
