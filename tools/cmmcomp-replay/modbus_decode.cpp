@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @file Field-by-field decoding of Modbus TCP ADUs (docs/protocol-modbus.md register map).
+/// @file Field-by-field decoding of Modbus TCP ADUs, by the plugin's register map (the one table
+/// of addresses, types, labels and units; docs/protocol-modbus.md).
 #include "modbus_decode.hpp"
 
 #include <cmmcomp/plugins/modbus_register_map.hpp>
@@ -14,73 +15,8 @@ namespace {
 
 namespace map = plugins::modbus_map;
 
-enum class Type { kU16, kI16, kF32, kU32, kU64 };
-
-/// One register field: first register, type, name, unit.
-struct RegisterField {
-  std::uint16_t reg;
-  Type type;
-  const char* name;
-  const char* unit;
-};
-
-constexpr RegisterField kRequestFields[] = {
-    {map::kAxis, Type::kU16, "axis", ""},
-    {map::kReserved, Type::kU16, "reserved", ""},
-    {map::kDirectionX, Type::kF32, "direction x", ""},
-    {map::kDirectionY, Type::kF32, "direction y", ""},
-    {map::kDirectionZ, Type::kF32, "direction z", ""},
-    {map::kPv, Type::kF32, "PV", " mm/s"},
-    {map::kPa, Type::kF32, "PA", " mm/s²"},
-    {map::kPd, Type::kF32, "PD", " mm"},
-    {map::kAv, Type::kF32, "AV", " mm/s"},
-    {map::kAa, Type::kF32, "AA", " mm/s²"},
-    {map::kAd, Type::kF32, "AD", " mm"},
-    {map::kY, Type::kF32, "Y", " mm"},
-    {map::kZ, Type::kF32, "Z", " mm"},
-    {map::kSequence, Type::kU16, "sequence", ""},
-};
-
-constexpr RegisterField kInputFields[] = {
-    {map::kProtocolVersionReg, Type::kU16, "protocol version", ""},
-    {map::kResultSequence, Type::kU16, "sequence", ""},
-    {map::kResultStatus, Type::kI16, "status", ""},
-    {map::kResultFlags, Type::kU16, "flags", ""},
-    {map::kResultAxis, Type::kU16, "axis", ""},
-    {map::kResultReserved, Type::kU16, "reserved", ""},
-    {map::kMpe, Type::kF32, "MPE", " µm"},
-    {map::kRpe, Type::kF32, "RPE", " µm"},
-    {map::kMae, Type::kF32, "MAE", " µm"},
-    {map::kRae, Type::kF32, "RAE", " µm"},
-    {map::kCorrectionX, Type::kF32, "correction x", " µm"},
-    {map::kCorrectionY, Type::kF32, "correction y", " µm"},
-    {map::kCorrectionZ, Type::kF32, "correction z", " µm"},
-    {map::kResultModelId, Type::kU64, "model id", ""},
-    {map::kRequests, Type::kU32, "requests counter", ""},
-    {map::kAnswered, Type::kU32, "answered counter", ""},
-    {map::kRejected, Type::kU32, "rejected counter", ""},
-    {map::kExceptions, Type::kU32, "exceptions counter", ""},
-    {map::kComputations, Type::kU32, "computations counter", ""},
-    {map::kClientsConnected, Type::kU32, "clients counter", ""},
-    {map::kModelIdAxis0, Type::kU64, "model id axis 0", ""},
-    {map::kModelIdAxis0 + 4, Type::kU64, "model id axis 1", ""},
-    {map::kModelIdAxis0 + 8, Type::kU64, "model id axis 2", ""},
-    {map::kModelIdAxis0 + 12, Type::kU64, "model id axis 3", ""},
-};
-
-int words(Type t) {
-  switch (t) {
-    case Type::kU16:
-    case Type::kI16:
-      return 1;
-    case Type::kF32:
-    case Type::kU32:
-      return 2;
-    case Type::kU64:
-      return 4;
-  }
-  return 1;
-}
+using map::Field;
+using map::FieldType;
 
 std::uint64_t be(const std::vector<std::uint8_t>& b, std::size_t at, std::size_t n) {
   std::uint64_t v = 0;
@@ -116,37 +52,38 @@ void add(std::vector<FieldValue>& out,
 void add_typed(std::vector<FieldValue>& out,
                const std::vector<std::uint8_t>& b,
                std::size_t at,
-               const RegisterField& f) {
-  const auto size = static_cast<std::size_t>(2 * words(f.type));
+               const Field& f) {
+  const auto size = static_cast<std::size_t>(2 * map::words(f.type));
+  const std::string unit = f.unit[0] == '\0' ? std::string() : std::string(" ") + f.unit;
   const std::uint64_t raw = be(b, at, size);
   switch (f.type) {
-    case Type::kU16:
-    case Type::kU32:
-      add(out, f.name, at, size, std::to_string(raw));
+    case FieldType::kU16:
+    case FieldType::kU32:
+      add(out, f.label, at, size, std::to_string(raw));
       return;
-    case Type::kI16: {
+    case FieldType::kI16: {
       const auto v = static_cast<std::int16_t>(static_cast<std::uint16_t>(raw));
       std::string text = std::to_string(v);
-      if (std::string(f.name) == "status") {
+      if (f.address == map::kResultStatus) {
         text += std::string(" (") + to_string(static_cast<Status>(v)) + ")";
       }
-      add(out, f.name, at, size, text);
+      add(out, f.label, at, size, text);
       return;
     }
-    case Type::kF32: {
+    case FieldType::kF32: {
       const auto bits = static_cast<std::uint32_t>(raw);
       float v = 0;
       std::memcpy(&v, &bits, sizeof v);
       add(out,
-          f.name,
+          f.label,
           at,
           size,
-          format_number(v, 4) + f.unit,
-          format_number(v, 9) + f.unit + " (" + format_hex(bits, 8) + ")");
+          format_number(v, 4) + unit,
+          format_number(v, 9) + unit + " (" + format_hex(bits, 8) + ")");
       return;
     }
-    case Type::kU64:
-      add(out, f.name, at, size, format_hex(raw, 16));
+    case FieldType::kU64:
+      add(out, f.label, at, size, format_hex(raw, 16));
       return;
   }
 }
@@ -165,17 +102,17 @@ void add_registers(std::vector<FieldValue>& out,
     // Holding registers 25 .. 47 are a copy of input registers 1 .. 23 (the result block).
     const bool request_space = holding && r < map::kRequestCount;
     const std::uint32_t input_reg = holding ? r - map::kResultCopy + map::kResultSequence : r;
-    const RegisterField* match = nullptr;
+    const Field* match = nullptr;
     if (request_space) {
-      for (const RegisterField& f : kRequestFields) {
-        if (f.reg == r) match = &f;
+      for (const Field& f : map::kHoldingFields) {
+        if (f.address == r && f.count == 1) match = &f;
       }
     } else {
-      for (const RegisterField& f : kInputFields) {
-        if (f.reg == input_reg) match = &f;
+      for (const Field& f : map::kInputFields) {
+        if (f.address == input_reg) match = &f;
       }
     }
-    const auto n = match == nullptr ? 1u : static_cast<std::uint32_t>(words(match->type));
+    const auto n = match == nullptr ? 1u : static_cast<std::uint32_t>(match->registers());
     if (match != nullptr && r + n <= end && at + 2 * n <= b.size()) {
       add_typed(out, b, at, *match);
     } else {  // outside the map, or a field only partly read

@@ -260,11 +260,17 @@ std::string read_doc() {
   return ss.str();
 }
 
-/// name → (address, registers) from the rows "| 2–3 | `direction_x` | …" of the section whose
-/// "## " heading contains `section`.
-std::map<std::string, std::pair<int, int>> doc_table(const std::string& doc,
-                                                     const std::string& section) {
-  std::map<std::string, std::pair<int, int>> rows;
+/// One row of a register table in the document.
+struct DocRow {
+  int address = 0;
+  int registers = 0;
+  std::string unit;  ///< the unit cell, "" for "–"
+};
+
+/// name → row from the rows "| 2–3 | `direction_x` | f32 | – | …" of the section whose "## "
+/// heading contains `section`.
+std::map<std::string, DocRow> doc_table(const std::string& doc, const std::string& section) {
+  std::map<std::string, DocRow> rows;
   std::istringstream lines(doc);
   std::string line;
   bool inside = false;
@@ -282,21 +288,31 @@ std::map<std::string, std::pair<int, int>> doc_table(const std::string& doc,
     const std::size_t tick = line.find('`', bar);
     const std::size_t tock = line.find('`', tick + 1);
     if (tick == std::string::npos || tock == std::string::npos) continue;
-    rows[line.substr(tick + 1, tock - tick - 1)] = {first, last - first + 1};
+    // The unit is the cell after the type: "| name | type | unit |".
+    const std::size_t type_bar = line.find('|', line.find('|', tock) + 1);
+    const std::size_t unit_bar = line.find('|', type_bar + 1);
+    std::string unit = type_bar == std::string::npos || unit_bar == std::string::npos
+                           ? "?"
+                           : line.substr(type_bar + 1, unit_bar - type_bar - 1);
+    unit.erase(0, unit.find_first_not_of(' '));
+    unit.erase(unit.find_last_not_of(' ') + 1);
+    if (unit == "–") unit.clear();
+    rows[line.substr(tick + 1, tock - tick - 1)] = {first, last - first + 1, unit};
   }
   return rows;
 }
 
 template <std::size_t N>
-void expect_same(const std::map<std::string, std::pair<int, int>>& doc,
+void expect_same(const std::map<std::string, DocRow>& doc,
                  const std::array<map::Field, N>& code,
                  const char* what) {
   EXPECT_EQ(doc.size(), N) << what << ": the document lists " << doc.size() << " registers";
   for (const auto& f : code) {
     const auto it = doc.find(f.name);
     ASSERT_NE(it, doc.end()) << what << " register `" << f.name << "` is not in the document";
-    EXPECT_EQ(it->second.first, f.address) << f.name;
-    EXPECT_EQ(it->second.second, f.registers()) << f.name;
+    EXPECT_EQ(it->second.address, f.address) << f.name;
+    EXPECT_EQ(it->second.registers, f.registers()) << f.name;
+    EXPECT_EQ(it->second.unit, f.unit) << f.name;
   }
 }
 

@@ -99,6 +99,8 @@ struct Field {
   const char* name;         ///< name used in the document's tables
   std::uint16_t address;    ///< 0-based PDU address (mbpoll: -0, or address + 1 without it)
   FieldType type;           ///< value type (of each element when `count` > 1)
+  const char* label;        ///< short label for people (decoders, logs): "PV", "status"
+  const char* unit;         ///< unit of the value, "" when it has none
   std::uint16_t count = 1;  ///< elements (the result copy is kResultWords u16)
 
   /// Registers the field occupies.
@@ -108,48 +110,48 @@ struct Field {
 };
 
 inline constexpr std::array<Field, 15> kHoldingFields{{
-    {"axis", kAxis, FieldType::kU16},
-    {"reserved", kReserved, FieldType::kU16},
-    {"direction_x", kDirectionX, FieldType::kF32},
-    {"direction_y", kDirectionY, FieldType::kF32},
-    {"direction_z", kDirectionZ, FieldType::kF32},
-    {"pv_mm_s", kPv, FieldType::kF32},
-    {"pa_mm_s2", kPa, FieldType::kF32},
-    {"pd_mm", kPd, FieldType::kF32},
-    {"av_mm_s", kAv, FieldType::kF32},
-    {"aa_mm_s2", kAa, FieldType::kF32},
-    {"ad_mm", kAd, FieldType::kF32},
-    {"y_mm", kY, FieldType::kF32},
-    {"z_mm", kZ, FieldType::kF32},
-    {"sequence", kSequence, FieldType::kU16},
-    {"result_copy", kResultCopy, FieldType::kU16, kResultWords},
+    {"axis", kAxis, FieldType::kU16, "axis", ""},
+    {"reserved", kReserved, FieldType::kU16, "reserved", ""},
+    {"direction_x", kDirectionX, FieldType::kF32, "direction x", ""},
+    {"direction_y", kDirectionY, FieldType::kF32, "direction y", ""},
+    {"direction_z", kDirectionZ, FieldType::kF32, "direction z", ""},
+    {"pv_mm_s", kPv, FieldType::kF32, "PV", "mm/s"},
+    {"pa_mm_s2", kPa, FieldType::kF32, "PA", "mm/s²"},
+    {"pd_mm", kPd, FieldType::kF32, "PD", "mm"},
+    {"av_mm_s", kAv, FieldType::kF32, "AV", "mm/s"},
+    {"aa_mm_s2", kAa, FieldType::kF32, "AA", "mm/s²"},
+    {"ad_mm", kAd, FieldType::kF32, "AD", "mm"},
+    {"y_mm", kY, FieldType::kF32, "Y", "mm"},
+    {"z_mm", kZ, FieldType::kF32, "Z", "mm"},
+    {"sequence", kSequence, FieldType::kU16, "sequence", ""},
+    {"result_copy", kResultCopy, FieldType::kU16, "result copy", "", kResultWords},
 }};
 
 inline constexpr std::array<Field, 24> kInputFields{{
-    {"protocol_version", kProtocolVersionReg, FieldType::kU16},
-    {"result_sequence", kResultSequence, FieldType::kU16},
-    {"result_status", kResultStatus, FieldType::kI16},
-    {"result_flags", kResultFlags, FieldType::kU16},
-    {"result_axis", kResultAxis, FieldType::kU16},
-    {"result_reserved", kResultReserved, FieldType::kU16},
-    {"mpe_um", kMpe, FieldType::kF32},
-    {"rpe_um", kRpe, FieldType::kF32},
-    {"mae_um", kMae, FieldType::kF32},
-    {"rae_um", kRae, FieldType::kF32},
-    {"correction_x_um", kCorrectionX, FieldType::kF32},
-    {"correction_y_um", kCorrectionY, FieldType::kF32},
-    {"correction_z_um", kCorrectionZ, FieldType::kF32},
-    {"result_model_id", kResultModelId, FieldType::kU64},
-    {"requests", kRequests, FieldType::kU32},
-    {"answered", kAnswered, FieldType::kU32},
-    {"rejected", kRejected, FieldType::kU32},
-    {"exceptions", kExceptions, FieldType::kU32},
-    {"computations", kComputations, FieldType::kU32},
-    {"clients_connected", kClientsConnected, FieldType::kU32},
-    {"model_id_axis0", kModelIdAxis0, FieldType::kU64},
-    {"model_id_axis1", kModelIdAxis0 + 4, FieldType::kU64},
-    {"model_id_axis2", kModelIdAxis0 + 8, FieldType::kU64},
-    {"model_id_axis3", kModelIdAxis0 + 12, FieldType::kU64},
+    {"protocol_version", kProtocolVersionReg, FieldType::kU16, "protocol version", ""},
+    {"result_sequence", kResultSequence, FieldType::kU16, "sequence", ""},
+    {"result_status", kResultStatus, FieldType::kI16, "status", ""},
+    {"result_flags", kResultFlags, FieldType::kU16, "flags", ""},
+    {"result_axis", kResultAxis, FieldType::kU16, "axis", ""},
+    {"result_reserved", kResultReserved, FieldType::kU16, "reserved", ""},
+    {"mpe_um", kMpe, FieldType::kF32, "MPE", "µm"},
+    {"rpe_um", kRpe, FieldType::kF32, "RPE", "µm"},
+    {"mae_um", kMae, FieldType::kF32, "MAE", "µm"},
+    {"rae_um", kRae, FieldType::kF32, "RAE", "µm"},
+    {"correction_x_um", kCorrectionX, FieldType::kF32, "correction x", "µm"},
+    {"correction_y_um", kCorrectionY, FieldType::kF32, "correction y", "µm"},
+    {"correction_z_um", kCorrectionZ, FieldType::kF32, "correction z", "µm"},
+    {"result_model_id", kResultModelId, FieldType::kU64, "model id", ""},
+    {"requests", kRequests, FieldType::kU32, "requests counter", ""},
+    {"answered", kAnswered, FieldType::kU32, "answered counter", ""},
+    {"rejected", kRejected, FieldType::kU32, "rejected counter", ""},
+    {"exceptions", kExceptions, FieldType::kU32, "exceptions counter", ""},
+    {"computations", kComputations, FieldType::kU32, "computations counter", ""},
+    {"clients_connected", kClientsConnected, FieldType::kU32, "clients counter", ""},
+    {"model_id_axis0", kModelIdAxis0, FieldType::kU64, "model id axis 0", ""},
+    {"model_id_axis1", kModelIdAxis0 + 4, FieldType::kU64, "model id axis 1", ""},
+    {"model_id_axis2", kModelIdAxis0 + 8, FieldType::kU64, "model id axis 2", ""},
+    {"model_id_axis3", kModelIdAxis0 + 12, FieldType::kU64, "model id axis 3", ""},
 }};
 
 // ---- word codecs (most significant word first)
