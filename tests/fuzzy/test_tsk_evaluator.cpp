@@ -410,5 +410,19 @@ TEST(TskEvaluator, ValidateRejectsBadModels) {
   EXPECT_FALSE(validate(m, &why));
 }
 
+TEST(DomainPolicyNames, ParseIsTheInverseOfToStringAndRejectsTheRest) {
+  for (const DomainPolicy p : kDomainPolicies) {
+    DomainPolicy parsed = p == DomainPolicy::kReject ? DomainPolicy::kClamp : DomainPolicy::kReject;
+    EXPECT_TRUE(parse_domain_policy(to_string(p), &parsed)) << to_string(p);
+    EXPECT_EQ(parsed, p);
+  }
+  DomainPolicy kept = DomainPolicy::kExtrapolate;
+  for (const char* bad : {"", "Clamp", "clamp ", "rejected", "unknown"}) {
+    EXPECT_FALSE(parse_domain_policy(bad, &kept)) << bad;
+    EXPECT_EQ(kept, DomainPolicy::kExtrapolate) << "a failed parse changed the policy";
+  }
+  static_assert(to_string(DomainPolicy::kClamp)[0] == 'c', "constexpr");
+}
+
 }  // namespace
 }  // namespace cmmcomp::fuzzy

@@ -29,6 +29,7 @@
 #include <thread>
 #include <vector>
 
+#include "domain_policy_option.hpp"
 #include "model_slots.hpp"
 
 namespace {
@@ -132,12 +133,6 @@ class ServerThread {
   std::thread thread_;
 };
 
-cmmcomp::fuzzy::DomainPolicy parse_policy(const std::string& s) {
-  if (s == "clamp") return cmmcomp::fuzzy::DomainPolicy::kClamp;
-  if (s == "extrapolate") return cmmcomp::fuzzy::DomainPolicy::kExtrapolate;
-  return cmmcomp::fuzzy::DomainPolicy::kReject;
-}
-
 int serve(const Options& opt) {
   spdlog::set_level(spdlog::level::from_str(opt.log_level));
   spdlog::info("cmmcomp-agent {}", CMMCOMP_VERSION_STRING);
@@ -153,7 +148,8 @@ int serve(const Options& opt) {
   }
 
   cmmcomp::compensation::CompensatorOptions copt;
-  copt.outside_domain = parse_policy(opt.outside_domain);
+  // CLI11 admits only the three names, so the parse cannot fail here.
+  (void)cmmcomp::fuzzy::parse_domain_policy(opt.outside_domain, &copt.outside_domain);
   cmmcomp::compensation::MoveCompensator compensator(copt);
   if (!report(cmmcomp::agent::load_slots(slots, compensator), false)) return 2;
 
@@ -255,7 +251,7 @@ int main(int argc, char** argv) {
                  opt.outside_domain,
                  "moves outside the training ranges: clamp, extrapolate or reject")
       ->capture_default_str()
-      ->check(CLI::IsMember({"clamp", "extrapolate", "reject"}));
+      ->check(cmmcomp::agent::domain_policy_name());
   app.add_option("--log-level", opt.log_level, "trace, debug, info, warn, error, critical, off")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));

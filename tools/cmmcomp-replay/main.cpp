@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "can_session.hpp"
+#include "domain_policy_option.hpp"
 #include "modbus_session.hpp"
 #include "model_slots.hpp"
 #include "recording.hpp"
@@ -34,12 +35,6 @@ struct Options {
   std::string can_base_id = "0x300";
   int can_part_timeout_ms = 50;
 };
-
-cmmcomp::fuzzy::DomainPolicy parse_policy(const std::string& s) {
-  if (s == "extrapolate") return cmmcomp::fuzzy::DomainPolicy::kExtrapolate;
-  if (s == "reject") return cmmcomp::fuzzy::DomainPolicy::kReject;
-  return cmmcomp::fuzzy::DomainPolicy::kClamp;
-}
 
 /// Loads the models as cmmcomp-agent does; false (with the reasons on stderr) when one fails.
 bool load_models(const Options& opt, cmmcomp::compensation::MoveCompensator& compensator) {
@@ -78,7 +73,8 @@ int run(const Options& opt) {
   const bool modbus = recording.format == replay::RecordingFormat::kModbusTranscript;
 
   cmmcomp::compensation::CompensatorOptions copt;
-  copt.outside_domain = parse_policy(opt.outside_domain);
+  // CLI11 admits only the three names, so the parse cannot fail here.
+  (void)cmmcomp::fuzzy::parse_domain_policy(opt.outside_domain, &copt.outside_domain);
   cmmcomp::compensation::MoveCompensator compensator(copt);
   std::unique_ptr<replay::Session> session;
   if (opt.live.empty()) {
@@ -167,7 +163,7 @@ int main(int argc, char** argv) {
                  opt.outside_domain,
                  "as the agent that was recorded: clamp, extrapolate or reject")
       ->capture_default_str()
-      ->check(CLI::IsMember({"clamp", "extrapolate", "reject"}));
+      ->check(cmmcomp::agent::domain_policy_name());
   app.add_option("--modbus-unit", opt.modbus_unit, "the agent's Modbus unit id")
       ->capture_default_str()
       ->check(CLI::Range(1, 247));

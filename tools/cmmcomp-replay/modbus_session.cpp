@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/plugins/modbus_adu_responder.hpp>
+#include <cmmcomp/plugins/modbus_server.hpp>
 #include <cstring>
 
 #include "modbus_decode.hpp"
@@ -73,16 +74,13 @@ class InProcessModbusSession final : public ModbusSessionBase {
 class LiveModbusSession final : public ModbusSessionBase {
  public:
   explicit LiveModbusSession(const std::string& endpoint) : endpoint_(endpoint) {
-    if (endpoint.rfind("tcp:", 0) != 0) {
+    // The agent's own endpoint grammar, so "tcp:[::1]:1502" means what it means there.
+    const plugins::ModbusEndpoint where = plugins::ModbusEndpoint::parse(endpoint);
+    if (where.kind != plugins::ModbusEndpoint::Kind::kTcp) {
       throw ConfigError("--live modbus:" + endpoint + ": only tcp:HOST:PORT is supported");
     }
-    const std::string rest = endpoint.substr(4);
-    const std::size_t colon = rest.rfind(':');
-    if (colon == std::string::npos || colon == 0 || colon + 1 == rest.size()) {
-      throw ConfigError("--live modbus:" + endpoint + ": expected tcp:HOST:PORT");
-    }
-    const std::string host = rest.substr(0, colon);
-    const std::string port = rest.substr(colon + 1);
+    const std::string& host = where.host;
+    const std::string port = std::to_string(where.port);
     addrinfo hints{};
     hints.ai_family = AF_UNSPEC;
     hints.ai_socktype = SOCK_STREAM;

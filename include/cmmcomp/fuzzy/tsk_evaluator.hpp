@@ -46,6 +46,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 
@@ -57,6 +58,35 @@ enum class DomainPolicy : std::uint8_t {
   kExtrapolate,  ///< compute with the input as is, return Status::kOutsideDomain
   kReject,       ///< compute nothing, return Status::kOutsideDomainRejected
 };
+
+/// Every policy, in declaration order.
+inline constexpr DomainPolicy kDomainPolicies[] = {
+    DomainPolicy::kClamp, DomainPolicy::kExtrapolate, DomainPolicy::kReject};
+
+/// The policy's name as users write it: "clamp", "extrapolate", "reject".
+constexpr const char* to_string(DomainPolicy policy) noexcept {
+  switch (policy) {
+    case DomainPolicy::kClamp:
+      return "clamp";
+    case DomainPolicy::kExtrapolate:
+      return "extrapolate";
+    case DomainPolicy::kReject:
+      return "reject";
+  }
+  return "unknown";
+}
+
+/// Parses a policy name (to_string's spelling) into `*policy`. Returns false, leaving `*policy`
+/// as it was, for any other text. Every tool parses `--outside-domain` with this.
+constexpr bool parse_domain_policy(std::string_view text, DomainPolicy* policy) noexcept {
+  for (const DomainPolicy p : kDomainPolicies) {
+    if (text == to_string(p)) {
+      *policy = p;
+      return true;
+    }
+  }
+  return false;
+}
 
 /// Forward pass of a network with `kInputs` inputs, `kSets` sets per input and `kOutputs`
 /// outputs on normalised inputs. Stateless; all sizes compile-time; no allocation.
