@@ -40,7 +40,8 @@ using cmmcomp::agent::SlotOutcome;
 struct Options {
   std::vector<std::string> models;
   std::string can_interface;
-  std::string can_base_id = "0x300";
+  std::string can_base_id =
+      cmmcomp::plugins::format_can_base_id(cmmcomp::plugins::can::kDefaultBaseId);
   int can_heartbeat_ms = 1000;
   int can_part_timeout_ms = 50;
   std::string modbus;

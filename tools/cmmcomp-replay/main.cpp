@@ -32,7 +32,8 @@ struct Options {
   std::string live;
   std::string outside_domain = "clamp";
   int modbus_unit = 1;
-  std::string can_base_id = "0x300";
+  std::string can_base_id =
+      cmmcomp::plugins::format_can_base_id(cmmcomp::plugins::can::kDefaultBaseId);
   int can_part_timeout_ms = 50;
 };
 

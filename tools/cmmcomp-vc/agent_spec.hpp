@@ -2,6 +2,7 @@
 /// @file The agents a run talks to, from the command line.
 #pragma once
 
+#include <cmmcomp/plugins/can_protocol.hpp>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,7 +14,7 @@ struct AgentSpec {
   std::string label;
   bool is_can = false;
   std::string endpoint;  ///< Modbus: "tcp:HOST:PORT"; CAN: the interface
-  std::uint32_t can_base_id = 0x300;
+  std::uint32_t can_base_id = plugins::can::kDefaultBaseId;
 };
 
 /// Parses one --agent value. Throws ConfigError with the expected forms.

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/error.hpp>
+#include <cmmcomp/plugins/can_server.hpp>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -22,7 +23,8 @@ struct Options {
   std::string modbus;
   int modbus_unit = 1;
   std::string can;
-  std::string can_base_id = "0x300";
+  std::string can_base_id =
+      cmmcomp::plugins::format_can_base_id(cmmcomp::plugins::can::kDefaultBaseId);
   std::vector<std::string> agents;
   std::string lengths = "20,50,100,200,400";
   std::string y = "0,250,500";

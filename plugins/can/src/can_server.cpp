@@ -25,12 +25,6 @@ std::int64_t now_ns() noexcept {
       .count();
 }
 
-std::string hex_id(std::uint32_t id) {
-  char text[16];
-  std::snprintf(text, sizeof text, "0x%03X", static_cast<unsigned>(id));
-  return text;
-}
-
 // The MTU of `interface` (16 classic, 72 CAN FD), or −1.
 int interface_mtu(int socket, const std::string& interface) {
   ifreq request{};
@@ -39,6 +33,12 @@ int interface_mtu(int socket, const std::string& interface) {
 }
 
 }  // namespace
+
+std::string format_can_base_id(std::uint32_t id) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%03X", static_cast<unsigned>(id));
+  return text;
+}
 
 std::uint32_t parse_can_base_id(const std::string& text) {
   std::size_t used = 0;
@@ -49,7 +49,9 @@ std::uint32_t parse_can_base_id(const std::string& text) {
     used = 0;
   }
   if (used != text.size() || text.empty() || v > can::kMaxStandardId - (can::kMessageCount - 1)) {
-    throw ConfigError("--can-base-id '" + text + "': expected an 11-bit id ≤ 0x7FC, e.g. 0x300");
+    throw ConfigError("--can-base-id '" + text + "': expected an 11-bit id ≤ " +
+                      format_can_base_id(can::kMaxStandardId - (can::kMessageCount - 1)) +
+                      ", e.g. " + format_can_base_id(can::kDefaultBaseId));
   }
   return static_cast<std::uint32_t>(v);
 }
@@ -125,7 +127,7 @@ CanServer::~CanServer() {
 
 std::string CanServer::where() const {
   return "SocketCAN " + options_.interface + (options_.fd ? " (CAN FD)" : "") + ", base id " +
-         hex_id(options_.base_id);
+         format_can_base_id(options_.base_id);
 }
 
 void CanServer::send(const can::FrameBatch& batch, bool as_fd) noexcept {

@@ -5,6 +5,7 @@
 
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
+#include <cstdint>
 #include <string>
 
 namespace {
@@ -35,6 +36,26 @@ TEST(CanServerSetup, InvalidOptionsAreConfigErrors) {
   EXPECT_NE(message_of(o, comp).find("part timeout"), std::string::npos);
   std::string why;
   EXPECT_TRUE(CanServerOptions{}.is_valid(&why)) << why;
+}
+
+TEST(CanBaseId, FormatAndParseAreInverseAndBadTextIsNamed) {
+  using cmmcomp::plugins::format_can_base_id;
+  using cmmcomp::plugins::parse_can_base_id;
+  EXPECT_EQ(format_can_base_id(plugins::can::kDefaultBaseId), "0x300");
+  for (const std::uint32_t id : {0x000u, 0x123u, 0x300u, 0x7FCu}) {
+    EXPECT_EQ(parse_can_base_id(format_can_base_id(id)), id);
+  }
+  EXPECT_EQ(parse_can_base_id("768"), 0x300u);
+  for (const char* bad : {"", "0x7FD", "0x300 ", "-1", "vcan0"}) {
+    try {
+      (void)parse_can_base_id(bad);
+      ADD_FAILURE() << "'" << bad << "' was accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(
+          std::string(e.what()),
+          std::string("--can-base-id '") + bad + "': expected an 11-bit id ≤ 0x7FC, e.g. 0x300");
+    }
+  }
 }
 
 TEST(CanServerSetup, MissingKernelSupportOrInterfaceIsAClearError) {

@@ -18,6 +18,10 @@ namespace cmmcomp::plugins {
 /// "--can-base-id '…': expected an 11-bit id ≤ 0x7FC, e.g. 0x300".
 std::uint32_t parse_can_base_id(const std::string& text);
 
+/// A base identifier as users write it and the tools print it: "0x300". parse_can_base_id reads
+/// it back; the tools' --can-base-id defaults are format_can_base_id(can::kDefaultBaseId).
+std::string format_can_base_id(std::uint32_t id);
+
 /// Options of a CanServer, fixed at construction.
 struct CanServerOptions {
   std::string interface = "vcan0";              ///< CAN network interface (vcan0, can0, …)
