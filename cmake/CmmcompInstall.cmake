@@ -4,7 +4,12 @@ include(CMakePackageConfigHelpers)
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/cmmcomp" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES "${PROJECT_BINARY_DIR}/include/cmmcomp/version.hpp"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cmmcomp)
-install(TARGETS cmmcomp_core cmmcomp_lib cmmcomp_training cmmcomp_capi EXPORT cmmcompTargets
+# Two export sets, so that find_package(cmmcomp COMPONENTS core) needs no other package:
+# the header-only core (and its opt-in FP contract), and the compiled libraries.
+install(TARGETS cmmcomp_core cmmcomp_strict_fp EXPORT cmmcompCoreTargets)
+install(EXPORT cmmcompCoreTargets NAMESPACE cmmcomp:: FILE cmmcompCoreTargets.cmake
+        DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cmmcomp)
+install(TARGETS cmmcomp_lib cmmcomp_training cmmcomp_capi EXPORT cmmcompTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

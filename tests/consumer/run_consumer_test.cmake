@@ -13,3 +13,13 @@ run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/build" -G "${GE
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run("${WORK_DIR}/build/consumer_core")
 run("${WORK_DIR}/build/consumer_lib")
+
+# COMPONENTS core with every other package made unfindable.
+set(_disabled "")
+foreach(pkg Eigen3 Ceres SUNDIALS tomlplusplus nlohmann_json fmt Threads)
+  list(APPEND _disabled "-DCMAKE_DISABLE_FIND_PACKAGE_${pkg}=ON")
+endforeach()
+run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}/core_only" -B "${WORK_DIR}/build-core" -G "${GENERATOR}"
+    "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" -DCMAKE_BUILD_TYPE=Release ${_disabled})
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/build-core")
+run("${WORK_DIR}/build-core/consumer_core_only")
