@@ -4,6 +4,10 @@ include(CMakePackageConfigHelpers)
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/cmmcomp" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES "${PROJECT_BINARY_DIR}/include/cmmcomp/version.hpp"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cmmcomp)
+# The shipped default model (what io::default_model_file() compiles in), for tools and programs
+# that take a model file path (the C ABI, cmmcomp-train export, cmmcomp-agent --model).
+install(FILES "${PROJECT_SOURCE_DIR}/data/models/default.json"
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/cmmcomp/models)
 # Two export sets, so that find_package(cmmcomp COMPONENTS core) needs no other package:
 # the header-only core (and its opt-in FP contract), and the compiled libraries.
 install(TARGETS cmmcomp_core cmmcomp_strict_fp EXPORT cmmcompCoreTargets)

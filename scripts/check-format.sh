@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Fails when a tracked C/C++ file is not clang-formatted. Pass --fix to format them in place.
+# Fails when a C/C++ file of the checkout (tracked, or new and not ignored) is not clang-formatted.
+# Pass --fix to format them all in place.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 # Tracked files and new ones not yet added (so --fix before `git add` covers them too).
 mapfile -t files < <(git ls-files --cached --others --exclude-standard \
   '*.hpp' '*.cpp' '*.h' '*.c' 2>/dev/null || true)
+# No git (e.g. an unpacked source archive): every C/C++ file under the source directories.
 if [ ${#files[@]} -eq 0 ]; then
   mapfile -t files < <(find include src tools tests bench plugins examples -type f \
     \( -name '*.hpp' -o -name '*.cpp' -o -name '*.h' -o -name '*.c' \) 2>/dev/null)

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /** @file C ABI of the per-move compensator, for controller firmware and plugins (C99).
  *
- * One compensator holds one model file (the paper's 4-input, 3-set, 4-output T-S network, as
- * cmmcomp-train writes it) that serves every axis. Units are in the field names; signs and the
- * threading rules are in docs/compensator.md. Every function returns 0 or a negative
+ * One compensator holds one model file that serves every axis: a 3-set, 4-output T-S network
+ * with the paper's 4 inputs (PV, PD, AV, AD) or 5 with Y (y_mm), as cmmcomp-train writes it
+ * (io/compensation_model_file.hpp). Units are in the field names; signs and the threading
+ * rules are in docs/compensator.md. Every function returns 0 or a negative
  * CMMCOMP_E* code (except the accessors noted); no exception crosses this boundary. */
 #ifndef CMMCOMP_COMPENSATOR_H
 #define CMMCOMP_COMPENSATOR_H
@@ -32,7 +33,8 @@ extern "C" {
 
 /** Axes served (cmmcomp_move_request.axis < CMMCOMP_MAX_AXES). */
 #define CMMCOMP_MAX_AXES 4u
-/** Largest model file accepted, in bytes (a 4x3x4 model file is about 60 kB). */
+/** Largest model file accepted, in bytes (the shipped 4x3x4 and 5x3x4 default models are
+ * about 39 kB and 129 kB). */
 #define CMMCOMP_MAX_MODEL_BYTES (4u * 1024u * 1024u)
 /** Longest string cmmcomp_strerror and cmmcomp_version return, without the terminating 0. */
 #define CMMCOMP_MAX_MESSAGE_LENGTH 80u
@@ -47,7 +49,7 @@ extern "C" {
 #define CMMCOMP_OK 0
 #define CMMCOMP_E_ARGUMENT (-1)        /**< a null pointer or a size out of range */
 #define CMMCOMP_E_IO (-2)              /**< the model file cannot be opened or read */
-#define CMMCOMP_E_MODEL (-3)           /**< the model text is not a valid 4x3x4 model file */
+#define CMMCOMP_E_MODEL (-3)           /**< not a valid 4x3x4 or 5x3x4 model file (see above) */
 #define CMMCOMP_E_NO_MEMORY (-4)       /**< allocation failed */
 #define CMMCOMP_E_INTERNAL (-5)        /**< an unexpected internal error */
 #define CMMCOMP_E_INVALID_INPUT (-100) /**< NaN, inf, <= 0, bad axis or direction in a request */

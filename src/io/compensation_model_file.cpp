@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+/// @file Loads a 4- or 5-input model file for the compensator (names and units checked) and
+/// publishes it to an axis.
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cstdlib>

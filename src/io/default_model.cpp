@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+/// @file The compiled-in default model (data/models/default.json, embedded at build time).
 #include <cmmcomp/io/default_model.hpp>
 
 #include "default_model_json.inc"  // kDefaultModelJson, generated from data/models/default.json

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+/// @file Parses --model [AXIS=]PATH and loads each file into its axis of the compensator.
 #include "model_slots.hpp"
 
 #include <cmmcomp/error.hpp>

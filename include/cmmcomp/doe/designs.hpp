@@ -259,8 +259,11 @@ inline Design assign(const OrthogonalArray& oa,
   return d;
 }
 
-/// The paper's columns for PV, PD, AV, AD (in that order) in taguchi_l18(): c2..c5, i.e.
-/// 0-based columns {1, 2, 3, 4} (Wei et al. 2019, §3).
+/// The columns for PV, PD, AV, AD (in that order) in taguchi_l18(): c2..c5, i.e. 0-based
+/// columns {1, 2, 3, 4}. The project's choice, not the paper's: c1 has only 2 levels, so the four
+/// 3-level factors take the first four 3-level columns (cmmcomp-sim puts Y, when given, on the
+/// next free one, c6). Another choice is as orthogonal but gives other runs, hence other
+/// datasets and ANOVA figures (docs/training.md).
 inline std::vector<int> paper_l18_assignment() { return {1, 2, 3, 4}; }
 
 /// The paper's Table 3 factors in SI units, in the order PV [m/s], PD [m], AV [m/s], AD [m]:
@@ -273,8 +276,8 @@ inline std::vector<Factor> paper_table3_factors() {
           Factor{"AD", {0.005, 0.010, 0.015}}};
 }
 
-/// The paper's 18-run design: paper_table3_factors() on taguchi_l18() columns
-/// paper_l18_assignment(). Setup only.
+/// The 18-run design of the paper's experiment (L18, Table 3 levels): paper_table3_factors() on
+/// taguchi_l18() columns paper_l18_assignment(). Setup only.
 inline Design paper_l18_design() {
   return assign(taguchi_l18(), paper_table3_factors(), paper_l18_assignment());
 }

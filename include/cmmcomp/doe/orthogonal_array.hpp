@@ -2,9 +2,9 @@
 /// @file Orthogonal arrays: Taguchi's standard L9 (3^4), L18 (2x3^7) and L27 (3^13) tables.
 ///
 /// An orthogonal array is a table of runs x columns whose cells are level indices. In this
-/// module level indices are **0-based** everywhere (the published tables, and the CSV files in
-/// `paper-tables/`, are 1-based: level 1 there is level 0 here). Columns are 0-based too, so
-/// the paper's column c2 is column 1.
+/// module level indices are **0-based** everywhere (Taguchi's published tables are 1-based:
+/// level 1 there is level 0 here). Columns are 0-based too, so a published table's column c2
+/// is column 1.
 ///
 /// Offline code (the design of experiments happens before training): it allocates, and it
 /// reports invalid arguments with exceptions. Nothing here is RT-safe.
@@ -160,9 +160,9 @@ inline OrthogonalArray taguchi_l9() {
 }
 
 /// Taguchi's standard L18 (2^1 x 3^7): 18 runs; column 0 has 2 levels, columns 1..7 have 3.
-/// Cell for cell the table in `paper-tables/taguchi_l18.csv` (columns c1..c8 there are 0..7
-/// here). The paper (Wei et al. 2019, §3) puts PV, PD, AV, AD on columns c2..c5, see
-/// paper_l18_assignment() in designs.hpp. Setup only.
+/// Cell for cell the published table, written 1-based below (its columns c1..c8 are 0..7
+/// here). Which factor goes on which column is not part of the array: the project puts PV, PD,
+/// AV, AD on c2..c5 and Y on c6, see paper_l18_assignment() in designs.hpp. Setup only.
 inline OrthogonalArray taguchi_l18() {
   return detail::from_one_based("L18",
                                 {2, 3, 3, 3, 3, 3, 3, 3},

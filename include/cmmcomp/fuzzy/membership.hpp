@@ -12,7 +12,8 @@
 
 namespace cmmcomp::fuzzy {
 
-/// Training range of one input: the model maps [lo, hi] onto [0, 1]. SI units of that input.
+/// Training range of one input: the model maps [lo, hi] onto [0, 1]. In that input's own unit
+/// (the model file's `inputs[i].unit`: mm/s or mm for cmmcomp-train's models).
 struct InputRange {
   double lo = 0.0;  ///< lower end of the training range
   double hi = 1.0;  ///< upper end of the training range; must be > lo
@@ -85,6 +86,8 @@ Scalar membership_exp(const Scalar& v) noexcept {
 }
 
 /// Gaussian membership μ = exp(−(x − c)²/σ²) (Wei et al. 2019, §4, layer 2). RT-safe.
+/// σ (`width`) is not a standard deviation: this shape has standard deviation σ/√2, so a
+/// library that takes one (fuzzylite's Gaussian) needs σ/√2 for the same function.
 /// Precondition: σ > 0. The evaluator computes the memberships of all inputs together and
 /// shifts them per input (TskEvaluator::memberships); this is the definition they follow.
 template <typename Scalar>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// In-process cost of the CAN server's per-frame work (no socket): a whole request (three frames
-// in, three out, one compensator call), a reject, and the codec alone.
+/// @file In-process cost of the CAN server's per-frame work (no socket): a whole request (three
+/// frames in, three out, one compensator call), a reject, and the codec alone.
 #include <benchmark/benchmark.h>
 
 #include <cmmcomp/plugins/can_request_handler.hpp>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// CAN request → response latency on a real vcan bus: a CanServer in one thread, a raw socket
-// as the controller in another; N round trips (three frames each way), then p50, p99, max.
-// The kernel must have CAN: run it inside User-Mode Linux, where every syscall is slow, so
-// the figures are UML figures, not hardware figures:
-//   bash scripts/uml-run.sh -- build/release/plugins/can/bench/can_latency [N] [interface]
+/// @file CAN request → response latency on a real vcan bus: a CanServer in one thread, a raw socket
+/// as the controller in another; N round trips (three frames each way), then p50, p99, max.
+/// The kernel must have CAN: run it inside User-Mode Linux, where every syscall is slow, so
+/// the figures are UML figures, not hardware figures:
+///   bash scripts/uml-run.sh -- build/release/plugins/can/bench/can_latency [N] [interface]
 #include <algorithm>
 #include <atomic>
 #include <chrono>

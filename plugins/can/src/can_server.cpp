@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+/// @file CanServer: a raw SocketCAN socket (id filter, CAN FD) and its poll loop around
+/// can::RequestHandler, with heartbeats; parsing and printing of the base id.
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>

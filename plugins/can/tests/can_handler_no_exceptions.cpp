@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The per-frame path compiles and runs with -fno-exceptions -fno-rtti, as controller firmware
-// builds it: the codec and the request handler answer the protocol document's example.
+/// @file The per-frame path compiles and runs with -fno-exceptions -fno-rtti, as controller
+/// firmware builds it: the codec and the request handler answer the protocol document's example.
 #include <cmmcomp/plugins/can_request_handler.hpp>
 #include <cstdio>
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// A CanServer for the HIL tests: serves the protocol document's closed-form example model on
-// axis 0 (model id 0xC0FFEE01), prints "ready: <where>" once it listens and its counters when
-// SIGTERM, SIGINT or --max-seconds stop it.
-//   can_test_server [--interface vcan0] [--base-id 0x300] [--part-timeout-ms 50]
-//                   [--heartbeat-ms 1000] [--max-seconds 60] [--fd 0|1]
+/// @file A CanServer for the HIL tests: serves the protocol document's closed-form example model on
+/// axis 0 (model id 0xC0FFEE01), prints "ready: <where>" once it listens and its counters when
+/// SIGTERM, SIGINT or --max-seconds stop it.
+///   can_test_server [--interface vcan0] [--base-id 0x300] [--part-timeout-ms 50]
+///                   [--heartbeat-ms 1000] [--max-seconds 60] [--fd 0|1]
 #include <unistd.h>
 
 #include <atomic>

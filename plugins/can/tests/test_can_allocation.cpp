@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The per-frame path allocates nothing: RequestHandler::on_frame/on_time and the codec, for
-// answered requests, rejects and heartbeats (not built under sanitizers: see CMakeLists.txt).
+/// @file The per-frame path allocates nothing: RequestHandler::on_frame/on_time and the codec, for
+/// answered requests, rejects and heartbeats (not built under sanitizers: see CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <cmmcomp/plugins/can_request_handler.hpp>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// One source of truth: the DBC file, the signal table and the worked example of
-// docs/protocol-can.md must say exactly what the codec does.
+/// @file One source of truth: the DBC file, the signal table and the worked example of
+/// docs/protocol-can.md must say exactly what the codec does.
 #include <gtest/gtest.h>
 
 #include <cmmcomp/plugins/can_request_handler.hpp>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// HIL: the real CanServer on a real vcan bus (run inside scripts/uml-run.sh), with a raw
-// socket of its own as the controller: answers, kernel filter, rejects, heartbeat, hot swap.
+/// @file HIL: the real CanServer on a real vcan bus (run inside scripts/uml-run.sh), with a raw
+/// socket of its own as the controller: answers, kernel filter, rejects, heartbeat, hot swap.
 #include <gtest/gtest.h>
 
 #include <chrono>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The codec without a kernel: bit packing, round trips of every frame, range rejection.
+/// @file The codec without a kernel: bit packing, round trips of every frame, range rejection.
 #include <gtest/gtest.h>
 
 #include <cmath>

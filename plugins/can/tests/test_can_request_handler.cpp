@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The reassembly state machine with fake frames in and frames out: every framing rule of
-// docs/protocol-can.md ("Reassembly") and the counters.
+/// @file The reassembly state machine with fake frames in and frames out: every framing rule of
+/// docs/protocol-can.md ("Reassembly") and the counters.
 #include <gtest/gtest.h>
 
 #include <cmmcomp/plugins/can_request_handler.hpp>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// CanServer setup errors that need no CAN bus: invalid options, and a clear message when the
-// kernel has no CAN (the host) or the interface does not exist (a kernel with CAN).
+/// @file CanServer setup errors that need no CAN bus: invalid options, and a clear message when the
+/// kernel has no CAN (the host) or the interface does not exist (a kernel with CAN).
 #include <gtest/gtest.h>
 
 #include <cmmcomp/error.hpp>
