@@ -41,15 +41,14 @@ double largest_difference(const File& a, const File& b) {
   return worst;
 }
 
-// Tolerance 0.05 µm (a fifth of the smallest noise floor, RAE's 0.24 µm): the twin, the designs
-// and the training are deterministic; what
-// differs between builds is round-off: Eigen's SIMD width inside Ceres (it follows -march), and
-// the summation order of the network itself when its kernel changes. LM amplifies round-off
-// rather than damping it: reordering the evaluator's sums moved the 4-input model's predictions
-// by 1.2e-5 µm. The format-2 twin's steep Coulomb regularisation (0.1 mm/s) passes the
-// portable build's different libm/SIMD round-off into CVODE's step choices: the ASan build
-// (portable x86-64) retrains to within 0.029 µm of the x86-64-v3 model (measured 2026-12-02).
-// Any real change of data or method moves them by micrometres.
+// Tolerance 0.1 µm (0.4 of the smallest noise floor, RAE's 0.24 µm). The twin, the designs and
+// the training data are deterministic: the data file's SHA-256 must match exactly (below). What
+// differs between builds and machines is the training's round-off (Eigen's SIMD width inside
+// Ceres follows -march; the evaluator's summation order; LAPACK/BLAS), which Levenberg–Marquardt
+// amplifies rather than damps. Measured on 2026-12-02: the portable ASan build retrains to
+// within 0.029 µm of the x86-64-v3 model; the same release build on an AMD EPYC machine, from a
+// byte-identical data file, to within 0.078 µm (the cause is not isolated). Any real change of
+// data or method moves the predictions by micrometres.
 TEST(DefaultModel, ScriptReproducesIt) {
   using namespace cmmcomp;
   ASSERT_FALSE(g_retrained.empty())
@@ -64,7 +63,7 @@ TEST(DefaultModel, ScriptReproducesIt) {
         EXPECT_EQ(c.training.data_file_sha256, a.training.data_file_sha256)
             << "the script's training data changed";
         const double worst = largest_difference(c, a);
-        EXPECT_LT(worst, 0.05) << "largest prediction difference " << worst << " um";
+        EXPECT_LT(worst, 0.1) << "largest prediction difference " << worst << " um";
       },
       committed);
 }
