@@ -11,6 +11,8 @@ packages=(
   libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev
   can-utils user-mode-linux kmod iproute2 mbpoll socat gnuplot-nox
   clang-format
+  gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
+  g++-aarch64-linux-gnu qemu-user
 )
 
 missing=()

@@ -14,7 +14,8 @@ enum class [[nodiscard]] Status : std::int32_t{
     kNoModel = -101,                ///< no model published for this axis
     kTraceTooShort = -102,          ///< a trace does not cover the instants asked for
     kOutsideDomainRejected = -103,  ///< outside the training domain; the policy rejects it
-    kIntegratorFailed = -200,       ///< the ODE integrator reported a failure (offline twin)
+    kBusy = -104,  ///< publish only: a reader still uses the buffer it needs; nothing changed
+    kIntegratorFailed = -200,  ///< the ODE integrator reported a failure (offline twin)
 };
 
 /// True when `s` means the output is valid. RT-safe.
@@ -35,6 +36,8 @@ constexpr const char* to_string(Status s) noexcept {
       return "trace does not cover the move's phase instants";
     case Status::kOutsideDomainRejected:
       return "outside the training domain (rejected by policy)";
+    case Status::kBusy:
+      return "busy: a reader still uses the model buffer (nothing published)";
     case Status::kIntegratorFailed:
       return "ODE integrator failed";
   }

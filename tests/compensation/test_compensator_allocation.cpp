@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-/// @file MoveCompensator::before_approach never allocates, on success and on every error path.
+/// @file MoveCompensator::before_approach never allocates, on success and on every error path;
+/// StaticMoveCompensator (firmware) allocates in neither before_approach nor publish.
 #include <gtest/gtest.h>
 
 #include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/compensation/static_compensator.hpp>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -45,6 +47,26 @@ TEST(MoveCompensatorRt, BeforeApproachDoesNotAllocate) {
   bad = move(0);
   bad.axis = 3;  // no model
   failures += comp.before_approach(bad, out) == Status::kNoModel ? 0 : 1;
+  EXPECT_EQ(allocs.count(), 0u);
+  EXPECT_EQ(failures, 0u);
+}
+
+StaticMoveCompensator<MoveCompensator::Model> g_static;
+
+TEST(StaticMoveCompensatorRt, NeitherPublishNorBeforeApproachAllocates) {
+  const MoveCompensator::Model good = flat_model();
+  MoveCompensator::Model bad = good;
+  bad.params.width(0, 0) = -1.0;
+  Correction out;
+  std::size_t failures = 0;
+  test::AllocationCounter allocs;
+  failures += g_static.publish(0, good, 1) == Status::kOk ? 0 : 1;
+  failures += g_static.publish(1, good, 1) == Status::kOk ? 0 : 1;
+  failures += g_static.publish(1, bad, 2) == Status::kInvalidInput ? 0 : 1;
+  for (int i = 0; i < 10000; ++i) failures += ok(g_static.before_approach(move(i), out)) ? 0 : 1;
+  MoveRequest bad_move = move(0);
+  bad_move.axis = 3;  // no model
+  failures += g_static.before_approach(bad_move, out) == Status::kNoModel ? 0 : 1;
   EXPECT_EQ(allocs.count(), 0u);
   EXPECT_EQ(failures, 0u);
 }

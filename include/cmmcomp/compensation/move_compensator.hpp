@@ -19,6 +19,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmmcomp/compensation/move_prediction.hpp>
 #include <cmmcomp/compensation/move_request.hpp>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
@@ -149,26 +150,15 @@ class MoveCompensator {
     if (index == kNone) return Status::kNoModel;
     Buffer& b = a.buffers[static_cast<std::size_t>(index)];
     Model::RawOutput y;
-    Status s;
-    if (b.inputs == 5) {
-      const CompensationModelY::RawInput x{
-          move.pv_mm_s, move.pd_mm, move.av_mm_s, move.ad_mm, move.y_mm};
-      s = fuzzy::evaluate(b.model_y, x, y, options_.outside_domain);
-    } else {
-      const Model::RawInput x{move.pv_mm_s, move.pd_mm, move.av_mm_s, move.ad_mm};
-      s = fuzzy::evaluate(b.model, x, y, options_.outside_domain);
-    }
+    const Status s =
+        b.inputs == 5
+            ? fuzzy::evaluate(
+                  b.model_y, model_input<CompensationModelY>(move), y, options_.outside_domain)
+            : fuzzy::evaluate(b.model, model_input<Model>(move), y, options_.outside_domain);
     const std::uint64_t model_id = b.model_id;
     b.exits.fetch_add(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
-    out.mpe_um = y[0];
-    out.rpe_um = y[1];
-    out.mae_um = y[2];
-    out.rae_um = y[3];
-    for (std::size_t k = 0; k < 3; ++k) out.correction_um[k] = y[3] * move.direction[k];
-    out.flags = flags_for(s);
-    out.sequence = move.sequence;
-    out.model_id = model_id;
+    fill_correction(move, y, s, model_id, out);
     return s;
   }
 

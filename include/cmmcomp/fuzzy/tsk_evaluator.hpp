@@ -294,6 +294,23 @@ struct TskModel {
   Params params{};                           ///< trained parameters, normalised input units
 };
 
+/// `model` in another precision, e.g. float for an MCU whose FPU is single precision or twice as
+/// fast in it (docs/firmware.md): the ranges stay double (inputs are normalised in double), every
+/// parameter is converted by static_cast (round to nearest). constexpr, so that
+/// `constexpr auto m32 = convert_model<float>(m64);` places the converted model in read-only
+/// memory. Converting a valid double model to float keeps it valid unless a parameter exceeds
+/// the float range (find_problem reports it as not finite).
+template <typename To, typename From, int kInputs, int kSets, int kOutputs>
+constexpr TskModel<To, kInputs, kSets, kOutputs> convert_model(
+    const TskModel<From, kInputs, kSets, kOutputs>& model) noexcept {
+  TskModel<To, kInputs, kSets, kOutputs> out{};
+  out.ranges = model.ranges;
+  for (std::size_t k = 0; k < model.params.values.size(); ++k) {
+    out.params.values[k] = static_cast<To>(model.params.values[k]);
+  }
+  return out;
+}
+
 /// The paper's network: inputs (PV, PD, AV, AD), 3 sets each, 81 rules, one output (429
 /// parameters); one such network per error parameter.
 using PaperNetwork = TskModel<double, 4, 3, 1>;
@@ -362,40 +379,80 @@ template <typename Scalar, int kInputs, int kSets, int kOutputs>
   return mask != 0 ? Status::kOutsideDomain : Status::kOk;
 }
 
-/// Checks that `model` may be published: every range finite with lo < hi (and hi − lo finite),
-/// every parameter finite, every width > 0. Setup only (may allocate for `why`). On failure
-/// returns false and, if `why` is given, stores the first problem found.
-template <typename Scalar, int kInputs, int kSets, int kOutputs>
-bool validate(const TskModel<Scalar, kInputs, kSets, kOutputs>& model, std::string* why = nullptr) {
-  static_assert(std::is_floating_point_v<Scalar>, "validate checks double or float models");
-  using Layout = TskLayout<kInputs, kSets, kOutputs>;
-  const auto fail = [why](std::string message) {
-    if (why != nullptr) *why = std::move(message);
-    return false;
+/// What `find_problem` found wrong with a model (kNone: it may be published).
+struct ModelProblem {
+  enum Kind : std::uint8_t {
+    kNone,              ///< no problem
+    kRangeNotFinite,    ///< range `input`: lo, hi or hi − lo is not finite
+    kRangeEmpty,        ///< range `input`: lo >= hi
+    kParamNotFinite,    ///< parameter `index` is NaN or ±inf
+    kWidthNotPositive,  ///< width of set `set` of input `input` is not > 0
   };
+  Kind kind = kNone;
+  int input = -1;  ///< the input concerned (range and width problems)
+  int set = -1;    ///< the set concerned (width problems)
+  int index = -1;  ///< the parameter concerned (kParamNotFinite)
+
+  constexpr explicit operator bool() const noexcept { return kind != kNone; }
+};
+
+/// The first reason `model` may not be published: a range not finite or with lo >= hi, a
+/// parameter not finite, a width not > 0; kind kNone when there is none. RT-safe (no
+/// allocation, bounded), so that firmware without a heap can check a model before publishing.
+template <typename Scalar, int kInputs, int kSets, int kOutputs>
+constexpr ModelProblem find_problem(
+    const TskModel<Scalar, kInputs, kSets, kOutputs>& model) noexcept {
+  static_assert(std::is_floating_point_v<Scalar>, "find_problem checks double or float models");
+  using Layout = TskLayout<kInputs, kSets, kOutputs>;
+  // v − v is 0 exactly when v is finite (constexpr, unlike std::isfinite in C++17).
+  const auto finite = [](auto v) { return (v - v) == decltype(v)(0); };
   for (int i = 0; i < kInputs; ++i) {
     const InputRange& r = model.ranges[static_cast<unsigned>(i)];
-    if (!std::isfinite(r.lo) || !std::isfinite(r.hi) || !std::isfinite(r.hi - r.lo)) {
-      return fail("range of input " + std::to_string(i) + " is not finite");
+    if (!finite(r.lo) || !finite(r.hi) || !finite(r.hi - r.lo)) {
+      return {ModelProblem::kRangeNotFinite, i, -1, -1};
     }
-    if (!(r.lo < r.hi)) {
-      return fail("range of input " + std::to_string(i) + " has lo >= hi");
-    }
+    if (!(r.lo < r.hi)) return {ModelProblem::kRangeEmpty, i, -1, -1};
   }
   for (int k = 0; k < Layout::kParamCount; ++k) {
-    if (!std::isfinite(model.params.values[static_cast<unsigned>(k)])) {
-      return fail("parameter " + std::to_string(k) + " is not finite");
+    if (!finite(model.params.values[static_cast<unsigned>(k)])) {
+      return {ModelProblem::kParamNotFinite, -1, -1, k};
     }
   }
   for (int i = 0; i < kInputs; ++i) {
     for (int s = 0; s < kSets; ++s) {
-      if (!(model.params.width(i, s) > Scalar(0))) {
-        return fail("width of set " + std::to_string(s) + " of input " + std::to_string(i) +
-                    " is not positive");
-      }
+      if (!(model.params.width(i, s) > Scalar(0)))
+        return {ModelProblem::kWidthNotPositive, i, s, -1};
     }
   }
-  return true;
+  return {};
+}
+
+/// Checks that `model` may be published (find_problem). Setup only (may allocate for `why`). On
+/// failure returns false and, if `why` is given, stores the first problem found.
+template <typename Scalar, int kInputs, int kSets, int kOutputs>
+bool validate(const TskModel<Scalar, kInputs, kSets, kOutputs>& model, std::string* why = nullptr) {
+  const ModelProblem p = find_problem(model);
+  if (!p) return true;
+  if (why != nullptr) {
+    switch (p.kind) {
+      case ModelProblem::kRangeNotFinite:
+        *why = "range of input " + std::to_string(p.input) + " is not finite";
+        break;
+      case ModelProblem::kRangeEmpty:
+        *why = "range of input " + std::to_string(p.input) + " has lo >= hi";
+        break;
+      case ModelProblem::kParamNotFinite:
+        *why = "parameter " + std::to_string(p.index) + " is not finite";
+        break;
+      case ModelProblem::kWidthNotPositive:
+        *why = "width of set " + std::to_string(p.set) + " of input " + std::to_string(p.input) +
+               " is not positive";
+        break;
+      case ModelProblem::kNone:
+        break;
+    }
+  }
+  return false;
 }
 
 }  // namespace cmmcomp::fuzzy

@@ -109,30 +109,34 @@ struct TskParams : TskLayout<kInputs, kSets, kOutputs> {
 
   std::array<Scalar, kParamCount> values{};  ///< flat block, layout in the file comment
 
-  Scalar* data() noexcept { return values.data(); }
-  const Scalar* data() const noexcept { return values.data(); }
+  constexpr Scalar* data() noexcept { return values.data(); }
+  constexpr const Scalar* data() const noexcept { return values.data(); }
 
   /// Centre of set `set` of input `input` [normalised input units].
-  Scalar& centre(int input, int set) noexcept { return at(Layout::centre_index(input, set)); }
-  const Scalar& centre(int input, int set) const noexcept {
+  constexpr Scalar& centre(int input, int set) noexcept {
+    return at(Layout::centre_index(input, set));
+  }
+  constexpr const Scalar& centre(int input, int set) const noexcept {
     return at(Layout::centre_index(input, set));
   }
   /// Width σ of set `set` of input `input` [normalised input units], > 0.
-  Scalar& width(int input, int set) noexcept { return at(Layout::width_index(input, set)); }
-  const Scalar& width(int input, int set) const noexcept {
+  constexpr Scalar& width(int input, int set) noexcept {
+    return at(Layout::width_index(input, set));
+  }
+  constexpr const Scalar& width(int input, int set) const noexcept {
     return at(Layout::width_index(input, set));
   }
   /// Consequent term `term` of rule `rule` for output `output` (0 = constant, 1 + i = input i).
-  Scalar& consequent(int output, int rule, int term) noexcept {
+  constexpr Scalar& consequent(int output, int rule, int term) noexcept {
     return at(Layout::consequent_index(output, rule, term));
   }
-  const Scalar& consequent(int output, int rule, int term) const noexcept {
+  constexpr const Scalar& consequent(int output, int rule, int term) const noexcept {
     return at(Layout::consequent_index(output, rule, term));
   }
 
  private:
-  Scalar& at(int i) noexcept { return values[static_cast<unsigned>(i)]; }
-  const Scalar& at(int i) const noexcept { return values[static_cast<unsigned>(i)]; }
+  constexpr Scalar& at(int i) noexcept { return values[static_cast<unsigned>(i)]; }
+  constexpr const Scalar& at(int i) const noexcept { return values[static_cast<unsigned>(i)]; }
 };
 
 }  // namespace cmmcomp::fuzzy

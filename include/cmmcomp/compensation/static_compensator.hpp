@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: MIT
+/// @file The compensator for firmware without an OS: static storage, no heap, no thread, no lock.
+///
+/// `StaticMoveCompensator<Model>` serves one model type (4 or 5 inputs, double or float: see
+/// fuzzy::convert_model) on up to kMaxAxes axes. It needs nothing but C++17 and lock-free 32-bit
+/// atomics, so it builds with arm-none-eabi-g++ and newlib, -fno-exceptions -fno-rtti, and can
+/// live in .bss (`static StaticMoveCompensator<M> compensator;`). Every member is noexcept and
+/// allocation-free, publish included.
+///
+/// Threading contract (docs/firmware.md, "Hot swap without an OS"): ONE publisher (the main loop
+/// or a low-priority task) and any number of readers that PREEMPT it: interrupt handlers, or
+/// tasks of higher priority on the same core, which run `before_approach` to completion before
+/// the publisher resumes. This is the MCU counterpart of MoveCompensator's hosted scheme, and
+/// it is what lets publish never wait:
+///  - each axis has two buffers and a 32-bit word `current` (0, 1, or kNone);
+///  - a reader loads `current`, counts itself into that buffer's `readers`, evaluates, and
+///    counts itself out: two single-word atomic RMWs (LDREX/STREX on ARMv7-M), no loop of ours;
+///  - publish fills the buffer that is NOT current, then stores its index into `current`. The
+///    buffer it fills was current only before the previous publish; every reader that could have
+///    entered it has run to completion since, because readers preempt the publisher. So publish
+///    never overwrites a buffer in use, and never needs to wait.
+///  - If the contract is broken (a reader at lower priority than the publisher, or on another
+///    core), a reader may still be inside the free buffer. publish checks its `readers` count
+///    first and returns Status::kBusy without touching anything; the old model keeps serving.
+///    The check is a safety net, not the guarantee: a reader preempted between loading
+///    `current` and counting itself in is not seen. On a multi-core MCU use one compensator per
+///    core, or MoveCompensator's scheme.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cmmcomp/compensation/move_prediction.hpp>
+#include <cmmcomp/compensation/move_request.hpp>
+#include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cmmcomp/status.hpp>
+#include <cstdint>
+
+namespace cmmcomp::compensation {
+
+/// A compensator with static storage for one model type `ModelT` (fuzzy::TskModel with 4 or 5
+/// inputs and the 4 outputs MPE, RPE, MAE, RAE) on `kAxes` axes; see the file comment.
+template <typename ModelT, int kAxes = kMaxAxes>
+class StaticMoveCompensator {
+  static_assert(kIsCompensationModel<ModelT>, "a compensation model has 4 or 5 inputs, 4 outputs");
+  static_assert(kAxes > 0 && kAxes <= kMaxAxes, "MoveRequest::axis selects one of kMaxAxes axes");
+  static_assert(std::atomic<std::uint32_t>::is_always_lock_free,
+                "the RT path needs lock-free 32-bit atomics");
+
+ public:
+  using Model = ModelT;
+
+  /// A compensator with no model on any axis; `outside_domain` is what before_approach does
+  /// with a move outside the model's training ranges (default kClamp, as MoveCompensator).
+  /// An `outside_domain` that is not a DomainPolicy value makes every before_approach return
+  /// kInvalidInput (fuzzy::evaluate checks it).
+  constexpr explicit StaticMoveCompensator(
+      fuzzy::DomainPolicy outside_domain = fuzzy::DomainPolicy::kClamp) noexcept
+      : outside_domain_(outside_domain) {}
+  StaticMoveCompensator(const StaticMoveCompensator&) = delete;
+  StaticMoveCompensator& operator=(const StaticMoveCompensator&) = delete;
+
+  /// The policy given at construction.
+  fuzzy::DomainPolicy outside_domain() const noexcept { return outside_domain_; }
+
+  /// Makes `model` the model of `axis` for every before_approach call that starts after this
+  /// returns. Publisher only (one at a time; see the threading contract). Copies the model
+  /// (sizeof(Model) bytes) into the axis' free buffer: bounded time, no allocation, no wait.
+  /// Returns kOk; kInvalidInput when `axis` is out of range or fuzzy::find_problem(model) finds
+  /// a problem (`problem`, if given, says which); kBusy when a reader is still inside the free
+  /// buffer (the contract is broken). On any error nothing changes: the old model keeps serving.
+  Status publish(int axis,
+                 const Model& model,
+                 std::uint64_t model_id = 0,
+                 fuzzy::ModelProblem* problem = nullptr) noexcept {
+    if (axis < 0 || axis >= kAxes) return Status::kInvalidInput;
+    const fuzzy::ModelProblem found = fuzzy::find_problem(model);
+    if (problem != nullptr) *problem = found;
+    if (found) return Status::kInvalidInput;
+    Axis& a = axes_[static_cast<std::size_t>(axis)];
+    const std::uint32_t old_index = a.current.load(std::memory_order_relaxed);
+    const std::uint32_t next = old_index == 0 ? 1 : 0;
+    Buffer& b = a.buffers[next];
+    if (b.readers.load(std::memory_order_acquire) != 0) return Status::kBusy;
+    b.model = model;
+    b.model_id = model_id;
+    a.current.store(next, std::memory_order_release);
+    return Status::kOk;
+  }
+
+  /// True when `axis` has a published model. RT-safe.
+  bool has_model(int axis) const noexcept {
+    if (axis < 0 || axis >= kAxes) return false;
+    return axes_[static_cast<std::size_t>(axis)].current.load(std::memory_order_acquire) != kNone;
+  }
+
+  /// Id of the model serving `axis` (0 when none or `axis` is out of range). RT-safe.
+  std::uint64_t model_id(int axis) const noexcept {
+    if (axis < 0 || axis >= kAxes) return 0;
+    const Axis& a = axes_[static_cast<std::size_t>(axis)];
+    const std::uint32_t index = a.current.load(std::memory_order_acquire);
+    return index == kNone ? 0 : a.buffers[index].model_id;
+  }
+
+  /// Predicts the dynamic errors of `move` with the model of `move.axis` and fills `out`, as
+  /// MoveCompensator::before_approach does (same statuses, same Correction). RT-safe: no
+  /// allocation, no lock, no syscall, no loop but the evaluator's fixed ones; callable from an
+  /// interrupt handler. `out` is untouched unless ok(status).
+  [[nodiscard]] Status before_approach(const MoveRequest& move, Correction& out) const noexcept {
+    if (validate_move(move) != Status::kOk || move.axis >= kAxes) return Status::kInvalidInput;
+    Axis& a = axes_[move.axis];
+    const std::uint32_t index = a.current.load(std::memory_order_acquire);
+    if (index == kNone) return Status::kNoModel;
+    Buffer& b = a.buffers[index];
+    b.readers.fetch_add(1, std::memory_order_acquire);
+    typename Model::RawOutput y;
+    const Status s = fuzzy::evaluate(b.model, model_input<Model>(move), y, outside_domain_);
+    const std::uint64_t model_id = b.model_id;
+    b.readers.fetch_sub(1, std::memory_order_release);  // the buffer is not read after this
+    if (!ok(s)) return s;
+    fill_correction(move, y, s, model_id, out);
+    return s;
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = 2;  ///< `current` before the first publish
+
+  struct Buffer {
+    Model model{};
+    std::uint64_t model_id = 0;
+    std::atomic<std::uint32_t> readers{0};  ///< readers inside this buffer now
+  };
+  struct Axis {
+    std::atomic<std::uint32_t> current{kNone};
+    std::array<Buffer, 2> buffers{};
+  };
+
+  fuzzy::DomainPolicy outside_domain_;
+  // mutable: readers count themselves in and out of a buffer through a const compensator.
+  mutable std::array<Axis, static_cast<std::size_t>(kAxes)> axes_{};
+};
+
+}  // namespace cmmcomp::compensation
