@@ -13,7 +13,23 @@
 #   operator new. AddressSanitizer interposes the same functions, so sanitizer builds leave the
 #   program out (the RT-guarantee tests run in the release and dev builds).
 # tests/ (for support/*.hpp) and the calling directory are on the include path.
-find_package(GTest REQUIRED)
+if(CMAKE_CROSSCOMPILING)
+  # A cross build has no GoogleTest for its target; Debian's googletest package ships the
+  # sources, built here for the target (docs/firmware.md).
+  find_package(GTest QUIET)
+  if(NOT GTest_FOUND)
+    set(CMMCOMP_GTEST_SOURCE_DIR /usr/src/googletest CACHE PATH "GoogleTest sources (cross builds)")
+    set(BUILD_GMOCK OFF CACHE BOOL "" FORCE)
+    set(INSTALL_GTEST OFF CACHE BOOL "" FORCE)
+    add_subdirectory(${CMMCOMP_GTEST_SOURCE_DIR} ${CMAKE_BINARY_DIR}/googletest EXCLUDE_FROM_ALL)
+    if(NOT TARGET GTest::gtest_main)  # googletest >= 1.11 defines the aliases itself
+      add_library(GTest::gtest ALIAS gtest)
+      add_library(GTest::gtest_main ALIAS gtest_main)
+    endif()
+  endif()
+else()
+  find_package(GTest REQUIRED)
+endif()
 include(GoogleTest)
 
 function(cmmcomp_add_test name)
