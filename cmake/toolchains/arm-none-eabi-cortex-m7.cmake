@@ -18,8 +18,8 @@ set(CMAKE_CXX_FLAGS_INIT
 set(CMAKE_ASM_FLAGS_INIT "${_cmmcomp_m7}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${_cmmcomp_m7} -Wl,--gc-sections")
 # The issue's and a firmware engineer's usual optimisation level.
-set(CMAKE_C_FLAGS_RELEASE_INIT "-O2 -DNDEBUG")
-set(CMAKE_CXX_FLAGS_RELEASE_INIT "-O2 -DNDEBUG")
+set(CMAKE_C_FLAGS_RELEASE "-O2 -DNDEBUG" CACHE STRING "C flags of Release builds")
+set(CMAKE_CXX_FLAGS_RELEASE "-O2 -DNDEBUG" CACHE STRING "C++ flags of Release builds")
 
 set(CMAKE_FIND_ROOT_PATH /usr/lib/arm-none-eabi)
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)

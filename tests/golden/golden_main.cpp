@@ -62,8 +62,8 @@ int main(int argc, char** argv) {
     text.insert(text.end(), buffer, buffer + n);
   }
   std::fclose(in);
-  const auto rep = cmmcomp::golden::check_vectors(
-      text.data(), text.size(), [&](int line, const char* message) {
+  const auto rep =
+      cmmcomp::golden::check_vectors(text.data(), text.size(), [&](int line, const char* message) {
         std::printf("%s:%d: %s\n", path.c_str(), line, message);
       });
   cmmcomp::golden::print_report(rep, kTarget);

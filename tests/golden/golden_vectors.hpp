@@ -151,7 +151,10 @@ inline int write_vectors(std::FILE* out) {
   int count = 0;
   for_each_case([&](const Case& c) {
     const Result r = run(c);
-    std::fprintf(out, "%s,%s,%s", model_name(c.model), c.single ? "float" : "double",
+    std::fprintf(out,
+                 "%s,%s,%s",
+                 model_name(c.model),
+                 c.single ? "float" : "double",
                  fuzzy::to_string(c.policy));
     for (const double v : c.x) std::fprintf(out, ",%016" PRIx64, bits(v));
     std::fprintf(out, ",%d", static_cast<int>(r.status));
@@ -224,7 +227,8 @@ CheckReport check_vectors(const char* text, std::size_t size, Report&& report_mi
     bool good = next_field(p, end, f, sizeof f) && std::strcmp(f, model_name(c.model)) == 0;
     good = good && next_field(p, end, f, sizeof f) &&
            std::strcmp(f, c.single ? "float" : "double") == 0;
-    good = good && next_field(p, end, f, sizeof f) && std::strcmp(f, fuzzy::to_string(c.policy)) == 0;
+    good =
+        good && next_field(p, end, f, sizeof f) && std::strcmp(f, fuzzy::to_string(c.policy)) == 0;
     for (const double v : c.x) {
       std::uint64_t b = 0;
       good = good && next_field(p, end, f, sizeof f) && hex64(f, b) && b == bits(v);
@@ -253,8 +257,8 @@ CheckReport check_vectors(const char* text, std::size_t size, Report&& report_mi
       problem("status or output bits differ from the host's");
     }
     // Float against double on this target, where the inputs are (or are clamped) in range.
-    if (c.single && (r.status == Status::kOk ||
-                     (r.status == Status::kOutsideDomain && c.policy == fuzzy::DomainPolicy::kClamp))) {
+    if (c.single && (r.status == Status::kOk || (r.status == Status::kOutsideDomain &&
+                                                 c.policy == fuzzy::DomainPolicy::kClamp))) {
       Case d = c;
       d.single = false;
       const Result rd = run(d);
@@ -280,8 +284,14 @@ inline void print_report(const CheckReport& rep, const char* target) {
   std::printf(
       "golden (%s): %d cases, %d lines, %d mismatches, %d malformed; float vs double: max %.3g um "
       "over %d in-range cases (limit %.0e)\n",
-      target, rep.cases, rep.lines, rep.mismatches, rep.malformed, rep.float_max_diff_um,
-      rep.float_checked, kFloatToleranceUm);
+      target,
+      rep.cases,
+      rep.lines,
+      rep.mismatches,
+      rep.malformed,
+      rep.float_max_diff_um,
+      rep.float_checked,
+      kFloatToleranceUm);
   std::printf("golden: %s\n", rep.ok() ? "PASS" : "FAIL");
 }
 
