@@ -88,6 +88,25 @@ constexpr bool parse_domain_policy(std::string_view text, DomainPolicy* policy) 
   return false;
 }
 
+/// Loop nest of the consequent sums of a multi-output network (TskEvaluator::forward). Both give
+/// the same bits; they differ in speed by target.
+enum class SumRoute : std::uint8_t {
+  kByRule,   ///< rule by rule over the whole block: SIMD hosts (SSE2, AVX2, NEON)
+  kChunked,  ///< 4 block values at a time over all rules: scalar FPUs (Cortex-M)
+};
+
+/// The route `forward` takes by default: kChunked on an M-profile Arm core (or when
+/// CMMCOMP_FUZZY_CHUNKED_SUMS is defined to 1), kByRule elsewhere.
+#if !defined(CMMCOMP_FUZZY_CHUNKED_SUMS)
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+#define CMMCOMP_FUZZY_CHUNKED_SUMS 1
+#else
+#define CMMCOMP_FUZZY_CHUNKED_SUMS 0
+#endif
+#endif
+inline constexpr SumRoute kDefaultSumRoute =
+    CMMCOMP_FUZZY_CHUNKED_SUMS ? SumRoute::kChunked : SumRoute::kByRule;
+
 /// Forward pass of a network with `kInputs` inputs, `kSets` sets per input and `kOutputs`
 /// outputs on normalised inputs. Stateless; all sizes compile-time; no allocation.
 template <typename Scalar, int kInputs, int kSets, int kOutputs>
@@ -133,12 +152,17 @@ class TskEvaluator {
   /// The result is finite whenever the parameters and inputs are finite and the consequent sums
   /// do not overflow. Preconditions: `params` holds kParamCount values (layout in
   /// tsk_params.hpp), widths > 0.
+  /// `kRoute` picks the loop nest of the consequent sums (SumRoute); every route performs the
+  /// same operations in the same order, so the result has the same bits whichever runs.
+  template <SumRoute kRoute = kDefaultSumRoute>
   static void forward(const Scalar* params, const Input& x, Output& y) noexcept {
     constexpr int kTerms = Layout::kTerms;
     SetMajor m;
     const Scalar total = premise(params, x, m);
     Block t;  // t_ok = Σ_j α_j p_jok
-    if constexpr (kBlock % 4 == 0) {
+    if constexpr (kBlock % 4 == 0 && kRoute == SumRoute::kChunked) {
+      sum_by_rule_chunked(params + Layout::kConsequentsOffset, m, t);
+    } else if constexpr (kBlock % 4 == 0) {
       sum_by_rule(params + Layout::kConsequentsOffset, m, t);
     } else {
       sum_by_contraction(params + Layout::kConsequentsOffset, m, t);
@@ -224,16 +248,8 @@ class TskEvaluator {
   /// its (broadcast) α with its contiguous consequents. 1620 multiply-adds for the paper's
   /// 4-output network, the minimum; used when kBlock fills whole 4-lane vectors.
   static void sum_by_rule(const Scalar* consequents, const SetMajor& m, Block& t) noexcept {
-    // α_j = head_p · tail_q for rule j = p·kCols + q (head over the first half of the inputs,
-    // tail over the rest): one multiply per rule after 2·√kRules small products.
-    std::array<Scalar, kRows> head;
-    std::array<Scalar, kCols> tail;
-    outer_product<0, kHead>(m, head);
-    outer_product<kHead, kInputs>(m, tail);
-    std::array<Scalar, kRules> alpha;
-    for (int p = 0; p < kRows; ++p) {
-      for (int q = 0; q < kCols; ++q) alpha[u(p * kCols + q)] = head[u(p)] * tail[u(q)];
-    }
+    Firing alpha;
+    factored_firing(m, alpha);
     // Even and odd rules into separate accumulators: two add chains of half the length.
     Block even{};
     Block odd{};
@@ -250,6 +266,60 @@ class TskEvaluator {
       for (int k = 0; k < kBlock; ++k) even[u(k)] += a0 * rule[k];
     }
     for (int k = 0; k < kBlock; ++k) t[u(k)] = even[u(k)] + odd[u(k)];
+  }
+
+  /// α_j = head_p · tail_q for rule j = p·kCols + q (head over the first half of the inputs,
+  /// tail over the rest): one multiply per rule after 2·√kRules small products.
+  static void factored_firing(const SetMajor& m, Firing& alpha) noexcept {
+    std::array<Scalar, kRows> head;
+    std::array<Scalar, kCols> tail;
+    outer_product<0, kHead>(m, head);
+    outer_product<kHead, kInputs>(m, tail);
+    for (int p = 0; p < kRows; ++p) {
+      for (int q = 0; q < kCols; ++q) alpha[u(p * kCols + q)] = head[u(p)] * tail[u(q)];
+    }
+  }
+
+  /// sum_by_rule's sums with the loops exchanged: the block is taken 4 values at a time, and
+  /// each chunk is summed over every rule (even and odd rules apart, as there). Every
+  /// accumulator adds the same products in the same order, so t has the same bits; but only 8
+  /// accumulators are live, which a scalar FPU keeps in registers (a Cortex-M7 has 32 single or
+  /// 16 double), where sum_by_rule's 2·kBlock would be loaded and stored for every product.
+  static void sum_by_rule_chunked(const Scalar* consequents, const SetMajor& m, Block& t) noexcept {
+    constexpr int kChunk = 4;
+    static_assert(kBlock % kChunk == 0, "the block is a whole number of chunks");
+    Firing alpha;
+    factored_firing(m, alpha);
+    for (int c = 0; c < kBlock; c += kChunk) {
+      // Named scalars, not arrays: what makes the compiler keep them in registers.
+      Scalar e0{}, e1{}, e2{}, e3{};
+      Scalar o0{}, o1{}, o2{}, o3{};
+      const Scalar* rule = consequents + c;
+      int j = 0;
+      for (; j + 1 < kRules; j += 2, rule += 2 * kBlock) {
+        const Scalar a0 = alpha[u(j)];
+        const Scalar a1 = alpha[u(j + 1)];
+        e0 += a0 * rule[0];
+        e1 += a0 * rule[1];
+        e2 += a0 * rule[2];
+        e3 += a0 * rule[3];
+        o0 += a1 * rule[kBlock + 0];
+        o1 += a1 * rule[kBlock + 1];
+        o2 += a1 * rule[kBlock + 2];
+        o3 += a1 * rule[kBlock + 3];
+      }
+      if (j < kRules) {  // kRules odd: the last rule
+        const Scalar a0 = alpha[u(j)];
+        e0 += a0 * rule[0];
+        e1 += a0 * rule[1];
+        e2 += a0 * rule[2];
+        e3 += a0 * rule[3];
+      }
+      t[u(c + 0)] = e0 + o0;
+      t[u(c + 1)] = e1 + o1;
+      t[u(c + 2)] = e2 + o2;
+      t[u(c + 3)] = e3 + o3;
+    }
   }
 
   /// t = Σ_j α_j p_j·, without forming α: the consequent block is the tensor
