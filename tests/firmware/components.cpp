@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-/// @file One function per component of the core, compiled for the Cortex-M7 so that
-/// scripts/firmware-figures.sh can report each one's .text, .rodata and .bss (with
-/// -ffunction-sections -fdata-sections) and its stack (-fstack-usage). The figures image calls
-/// them, so their code is what the instruction counts measure.
+/// @file The components of the core as firmware links them, compiled for the Cortex-M7 once per
+/// component (CMMCOMP_FW_COMPONENT_*, tests/firmware/CMakeLists.txt) so that
+/// scripts/firmware-figures.sh can report each one's .text, .rodata and .bss and its worst-case
+/// stack (-fstack-usage, -fcallgraph-info=su). The figures image calls them, so their code is
+/// what the instruction counts measure.
 #include "components.hpp"
 
 #include <cmmcomp/compensation/static_compensator.hpp>
@@ -13,12 +14,12 @@
 
 namespace {
 using ModelF = cmmcomp::fuzzy::TskModel<float, 4, 3, 4>;
-constexpr ModelF kDefaultF = cmmcomp::fuzzy::convert_model<float>(default_model);
-cmmcomp::compensation::StaticMoveCompensator<cmmcomp::fuzzy::PaperMultiNetwork> g_comp_d;
-cmmcomp::compensation::StaticMoveCompensator<ModelF> g_comp_f;
+[[maybe_unused]] constexpr ModelF kDefaultF = cmmcomp::fuzzy::convert_model<float>(default_model);
 }  // namespace
 
 extern "C" {
+
+#if defined(CMMCOMP_FW_COMPONENT_EVALUATE_DOUBLE)
 
 int cmmcomp_fw_evaluate_double(const double x[4], double y[4]) {
   std::array<double, 4> out{};
@@ -28,6 +29,7 @@ int cmmcomp_fw_evaluate_double(const double x[4], double y[4]) {
   return static_cast<int>(s);
 }
 
+#elif defined(CMMCOMP_FW_COMPONENT_EVALUATE_FLOAT)
 int cmmcomp_fw_evaluate_float(const double x[4], double y[4]) {
   std::array<double, 4> out{};
   const auto s = cmmcomp::fuzzy::evaluate(
@@ -36,22 +38,32 @@ int cmmcomp_fw_evaluate_float(const double x[4], double y[4]) {
   return static_cast<int>(s);
 }
 
+#elif defined(CMMCOMP_FW_COMPONENT_COMPENSATOR_DOUBLE)
+namespace {
+cmmcomp::compensation::StaticMoveCompensator<cmmcomp::fuzzy::PaperMultiNetwork> g_comp_d;
+}
 int cmmcomp_fw_publish_double(int axis) {
   return static_cast<int>(g_comp_d.publish(axis, default_model, 1));
+}
+int cmmcomp_fw_before_approach_double(const cmmcomp::compensation::MoveRequest* move,
+                                      cmmcomp::compensation::Correction* out) {
+  return static_cast<int>(g_comp_d.before_approach(*move, *out));
+}
+
+#elif defined(CMMCOMP_FW_COMPONENT_COMPENSATOR_FLOAT)
+namespace {
+cmmcomp::compensation::StaticMoveCompensator<ModelF> g_comp_f;
 }
 int cmmcomp_fw_publish_float(int axis) {
   return static_cast<int>(g_comp_f.publish(axis, kDefaultF, 2));
 }
 
-int cmmcomp_fw_before_approach_double(const cmmcomp::compensation::MoveRequest* move,
-                                      cmmcomp::compensation::Correction* out) {
-  return static_cast<int>(g_comp_d.before_approach(*move, *out));
-}
 int cmmcomp_fw_before_approach_float(const cmmcomp::compensation::MoveRequest* move,
                                      cmmcomp::compensation::Correction* out) {
   return static_cast<int>(g_comp_f.before_approach(*move, *out));
 }
 
+#elif defined(CMMCOMP_FW_COMPONENT_PROFILE_EXTRACT)
 int cmmcomp_fw_profile_and_extract(const double* time,
                                    const double* error,
                                    std::size_t count,
@@ -77,5 +89,9 @@ double cmmcomp_fw_profile_duration() {
              ? profile.duration()
              : -1.0;
 }
+
+#else
+#error "define one CMMCOMP_FW_COMPONENT_*"
+#endif
 
 }  // extern "C"

@@ -12,7 +12,9 @@
 /// tasks of higher priority on the same core, which run `before_approach` to completion before
 /// the publisher resumes. This is the MCU counterpart of MoveCompensator's hosted scheme, and
 /// it is what lets publish never wait:
-///  - each axis has two buffers and a 32-bit word `current` (0, 1, or kNone);
+///  - each axis has two buffers and a 32-bit word `current`: 0 before the first publish, else
+///    1 + the index of the buffer serving (so that a compensator is all zeros, and a static one
+///    lives in .bss, not in .data where its buffers would take flash as well as RAM);
 ///  - a reader loads `current`, counts itself into that buffer's `readers`, evaluates, and
 ///    counts itself out: two single-word atomic RMWs (LDREX/STREX on ARMv7-M), no loop of ours;
 ///  - publish fills the buffer that is NOT current, then stores its index into `current`. The
@@ -34,6 +36,7 @@
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/status.hpp>
 #include <cstdint>
+#include <type_traits>
 
 namespace cmmcomp::compensation {
 
@@ -77,13 +80,13 @@ class StaticMoveCompensator {
     if (problem != nullptr) *problem = found;
     if (found) return Status::kInvalidInput;
     Axis& a = axes_[static_cast<std::size_t>(axis)];
-    const std::uint32_t old_index = a.current.load(std::memory_order_relaxed);
-    const std::uint32_t next = old_index == 0 ? 1 : 0;
+    // The buffer not serving (buffer 0 at the first publish).
+    const std::uint32_t next = a.current.load(std::memory_order_relaxed) == 1 ? 1 : 0;
     Buffer& b = a.buffers[next];
     if (b.readers.load(std::memory_order_acquire) != 0) return Status::kBusy;
-    b.model = model;
+    b.slot.model = model;
     b.model_id = model_id;
-    a.current.store(next, std::memory_order_release);
+    a.current.store(next + 1, std::memory_order_release);
     return Status::kOk;
   }
 
@@ -97,8 +100,8 @@ class StaticMoveCompensator {
   std::uint64_t model_id(int axis) const noexcept {
     if (axis < 0 || axis >= kAxes) return 0;
     const Axis& a = axes_[static_cast<std::size_t>(axis)];
-    const std::uint32_t index = a.current.load(std::memory_order_acquire);
-    return index == kNone ? 0 : a.buffers[index].model_id;
+    const std::uint32_t current = a.current.load(std::memory_order_acquire);
+    return current == kNone ? 0 : a.buffers[current - 1].model_id;
   }
 
   /// Predicts the dynamic errors of `move` with the model of `move.axis` and fills `out`, as
@@ -108,12 +111,12 @@ class StaticMoveCompensator {
   [[nodiscard]] Status before_approach(const MoveRequest& move, Correction& out) const noexcept {
     if (validate_move(move) != Status::kOk || move.axis >= kAxes) return Status::kInvalidInput;
     Axis& a = axes_[move.axis];
-    const std::uint32_t index = a.current.load(std::memory_order_acquire);
-    if (index == kNone) return Status::kNoModel;
-    Buffer& b = a.buffers[index];
+    const std::uint32_t current = a.current.load(std::memory_order_acquire);
+    if (current == kNone) return Status::kNoModel;
+    Buffer& b = a.buffers[current - 1];
     b.readers.fetch_add(1, std::memory_order_acquire);
     typename Model::RawOutput y;
-    const Status s = fuzzy::evaluate(b.model, model_input<Model>(move), y, outside_domain_);
+    const Status s = fuzzy::evaluate(b.slot.model, model_input<Model>(move), y, outside_domain_);
     const std::uint64_t model_id = b.model_id;
     b.readers.fetch_sub(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
@@ -122,10 +125,22 @@ class StaticMoveCompensator {
   }
 
  private:
-  static constexpr std::uint32_t kNone = 2;  ///< `current` before the first publish
+  static constexpr std::uint32_t kNone = 0;  ///< `current` before the first publish
+
+  // The model lives in a union whose constructor initialises nothing of it: a default Model is
+  // not all zeros (its ranges default to [0, 1]), which would put every buffer in .data. The
+  // first publish's copy is a trivial assignment, which starts the member's lifetime.
+  union ModelSlot {
+    constexpr ModelSlot() noexcept : empty() {}
+    char empty;
+    Model model;
+  };
+  static_assert(std::is_trivially_copy_assignable_v<Model> &&
+                    std::is_trivially_destructible_v<Model>,
+                "ModelSlot relies on a trivial copy into its inactive member");
 
   struct Buffer {
-    Model model{};
+    ModelSlot slot;
     std::uint64_t model_id = 0;
     std::atomic<std::uint32_t> readers{0};  ///< readers inside this buffer now
   };
