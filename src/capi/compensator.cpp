@@ -15,6 +15,8 @@
 #include <string>
 #include <system_error>
 
+#include "capi_types.hpp"
+
 namespace cm = cmmcomp::compensation;
 
 struct cmmcomp_compensator {
@@ -22,18 +24,6 @@ struct cmmcomp_compensator {
 };
 
 namespace {
-
-static_assert(CMMCOMP_MAX_AXES == static_cast<unsigned>(cm::kMaxAxes), "axis count");
-static_assert(CMMCOMP_E_INVALID_INPUT == static_cast<int>(cmmcomp::Status::kInvalidInput), "");
-static_assert(CMMCOMP_E_NO_MODEL == static_cast<int>(cmmcomp::Status::kNoModel), "");
-static_assert(CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED ==
-                  static_cast<int>(cmmcomp::Status::kOutsideDomainRejected),
-              "");
-static_assert(CMMCOMP_FLAG_OK == cm::kFlagOk &&
-                  CMMCOMP_FLAG_OUTSIDE_DOMAIN == cm::kFlagOutsideDomain &&
-                  CMMCOMP_FLAG_INVALID_INPUT == cm::kFlagInvalidInput &&
-                  CMMCOMP_FLAG_NO_MODEL == cm::kFlagNoModel,
-              "flags");
 
 // A file that cannot be opened is CMMCOMP_E_IO; everything the parser rejects is
 // CMMCOMP_E_MODEL. The two are told apart here, before parsing.
@@ -154,29 +144,10 @@ int cmmcomp_before_approach(const cmmcomp_compensator* c,
                             cmmcomp_correction* out) {
   if (c == nullptr || in == nullptr || out == nullptr) return CMMCOMP_E_ARGUMENT;
   if (in->axis >= CMMCOMP_MAX_AXES) return CMMCOMP_E_INVALID_INPUT;
-  cm::MoveRequest m;
-  m.sequence = in->sequence;
-  m.axis = static_cast<std::uint8_t>(in->axis);
-  m.direction = {in->direction[0], in->direction[1], in->direction[2]};
-  m.pv_mm_s = in->pv_mm_s;
-  m.pa_mm_s2 = in->pa_mm_s2;
-  m.pd_mm = in->pd_mm;
-  m.av_mm_s = in->av_mm_s;
-  m.aa_mm_s2 = in->aa_mm_s2;
-  m.ad_mm = in->ad_mm;
-  m.y_mm = in->y_mm;
-  m.z_mm = in->z_mm;
   cm::Correction r;
-  const cmmcomp::Status s = c->compensator.before_approach(m, r);
+  const cmmcomp::Status s = c->compensator.before_approach(cmmcomp::capi::to_move_request(*in), r);
   if (!cmmcomp::ok(s)) return static_cast<int>(s);
-  out->mpe_um = r.mpe_um;
-  out->rpe_um = r.rpe_um;
-  out->mae_um = r.mae_um;
-  out->rae_um = r.rae_um;
-  for (std::size_t k = 0; k < 3; ++k) out->correction_um[k] = r.correction_um[k];
-  out->flags = r.flags;
-  out->sequence = r.sequence;
-  out->model_id = r.model_id;
+  cmmcomp::capi::write_correction(r, *out);
   return CMMCOMP_OK;
 }
 
@@ -191,7 +162,7 @@ const char* cmmcomp_strerror(int code) {
     case CMMCOMP_E_IO:
       return "cannot open or read the model file";
     case CMMCOMP_E_MODEL:
-      return "not a valid 4x3x4 cmmcomp model file";
+      return "not a valid cmmcomp model file (4 or 5 inputs, 3 sets, 4 outputs)";
     case CMMCOMP_E_NO_MEMORY:
       return "out of memory";
     case CMMCOMP_E_INTERNAL:
@@ -202,6 +173,8 @@ const char* cmmcomp_strerror(int code) {
       return "no model published";
     case CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED:
       return "outside the training domain (rejected by policy)";
+    case CMMCOMP_E_BUSY:
+      return "busy: a reader still uses the model buffer (nothing published)";
     default:
       return "unknown error code";
   }

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# same_export.sh TRAIN MODEL.json SYMBOL COMMITTED.hpp SCRATCH.hpp: exports MODEL.json again and
-# fails, with the fix, unless the result is byte-identical to the committed header.
+# same_export.sh TRAIN MODEL.json SYMBOL COMMITTED SCRATCH [EXPORT OPTIONS...]: exports MODEL.json
+# again (a header, or what the options ask for) and fails, with the fix, unless the result is
+# byte-identical to the committed file.
 set -euo pipefail
 train="$1" model="$2" symbol="$3" committed="$4" scratch="$5"
-"$train" export "$model" --header "$scratch" --symbol "$symbol" >/dev/null
+shift 5
+if [ $# -eq 0 ]; then set -- --header "$scratch"; else set -- "$@" "$scratch"; fi
+"$train" export "$model" --symbol "$symbol" "$@" >/dev/null
 if ! cmp -s "$committed" "$scratch"; then
   echo "$committed is not the export of $model: run scripts/regenerate-firmware-data.sh" >&2
   diff "$committed" "$scratch" | head -5 >&2

@@ -279,10 +279,22 @@ int main(int argc, char** argv) {
   eval->add_flag("--json", json, "print one JSON object keyed mpe rpe mae rae");
   eval->add_option("--plot", plot_path, "draw the paper's Fig. 5 to this PNG (gnuplot)");
 
-  CLI::App* exp = app.add_subcommand("export", "write a constexpr C++ header of a model");
+  CLI::App* exp = app.add_subcommand(
+      "export", "write a model as a constexpr C++ header or a C source for the firmware ABI");
   exp->add_option("model", model_path, "model file")->required();
-  exp->add_option("--header", header_path, "output header")->required();
-  exp->add_option("--symbol", symbol, "C++ name of the model")->capture_default_str();
+  std::string c_source_path;
+  std::string scalar = "double";
+  auto* header_opt = exp->add_option("--header", header_path, "output: constexpr C++ header");
+  auto* c_opt =
+      exp->add_option("--c-source",
+                      c_source_path,
+                      "output: C99 source of a cmmcomp_fw_model (cmmcomp/compensator_fw.h)");
+  header_opt->excludes(c_opt);
+  exp->add_option("--symbol", symbol, "C or C++ name of the model")->capture_default_str();
+  exp->add_option("--scalar", scalar, "parameters of the C source in float or double")
+      ->check(CLI::IsMember({"double", "float"}))
+      ->capture_default_str()
+      ->needs(c_opt);
 
   try {
     app.parse(argc, argv);
@@ -302,11 +314,20 @@ int main(int argc, char** argv) {
         return inputs == 5 ? run_eval<5>(model_path, data_path, json, plot_path)
                            : run_eval<4>(model_path, data_path, json, plot_path);
       }
-      const std::string header = std::visit(
-          [&](const auto& file) { return cmmcomp::io::export_model_header(file, symbol); }, any);
-      cmmcomp::io::detail::write_text_file(header_path, header);
-      std::printf(
-          "wrote %s (model id %s)\n", header_path.c_str(), cmmcomp::io::model_id(any).c_str());
+      if (header_path.empty() && c_source_path.empty()) {
+        std::fprintf(stderr, "cmmcomp-train export: give --header or --c-source\n");
+        return 2;
+      }
+      const bool c_source = !c_source_path.empty();
+      const std::string text = std::visit(
+          [&](const auto& file) {
+            return c_source ? cmmcomp::io::export_model_c_source(file, symbol, scalar == "float")
+                            : cmmcomp::io::export_model_header(file, symbol);
+          },
+          any);
+      const std::string& path = c_source ? c_source_path : header_path;
+      cmmcomp::io::detail::write_text_file(path, text);
+      std::printf("wrote %s (model id %s)\n", path.c_str(), cmmcomp::io::model_id(any).c_str());
       return 0;
     }
   } catch (const std::exception& e) {

@@ -35,7 +35,9 @@
 #include <cmmcomp/compensation/move_request.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/status.hpp>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 namespace cmmcomp::compensation {
@@ -62,8 +64,16 @@ class StaticMoveCompensator {
   StaticMoveCompensator(const StaticMoveCompensator&) = delete;
   StaticMoveCompensator& operator=(const StaticMoveCompensator&) = delete;
 
-  /// The policy given at construction.
+  /// The outside-domain policy.
   fuzzy::DomainPolicy outside_domain() const noexcept { return outside_domain_; }
+
+  /// Changes the outside-domain policy; only before the first publish, when no reader reads it
+  /// (they stop at kNoModel). Publisher only. Returns false, changing nothing, afterwards.
+  bool set_outside_domain(fuzzy::DomainPolicy policy) noexcept {
+    if (published_) return false;
+    outside_domain_ = policy;
+    return true;
+  }
 
   /// Makes `model` the model of `axis` for every before_approach call that starts after this
   /// returns. Publisher only (one at a time; see the threading contract). Copies the model
@@ -86,6 +96,33 @@ class StaticMoveCompensator {
     if (b.readers.load(std::memory_order_acquire) != 0) return Status::kBusy;
     b.slot.model = model;
     b.model_id = model_id;
+    published_ = true;
+    a.current.store(next + 1, std::memory_order_release);
+    return Status::kOk;
+  }
+
+  /// The same for a model given as `size` bytes of Model's object representation (the C ABI's
+  /// cmmcomp_fw_model, compensator_fw.h): copied straight into the free buffer, checked there
+  /// (find_problem), and published only if it passes. No staging copy on the stack.
+  Status publish_bytes(int axis,
+                       const void* bytes,
+                       std::size_t size,
+                       std::uint64_t model_id = 0,
+                       fuzzy::ModelProblem* problem = nullptr) noexcept {
+    static_assert(std::is_trivially_copyable_v<Model>, "a model is plain bytes");
+    if (axis < 0 || axis >= kAxes || bytes == nullptr || size != sizeof(Model)) {
+      return Status::kInvalidInput;
+    }
+    Axis& a = axes_[static_cast<std::size_t>(axis)];
+    const std::uint32_t next = a.current.load(std::memory_order_relaxed) == 1 ? 1 : 0;
+    Buffer& b = a.buffers[next];
+    if (b.readers.load(std::memory_order_acquire) != 0) return Status::kBusy;
+    std::memcpy(&b.slot.model, bytes, sizeof(Model));  // the free buffer: nobody reads it
+    const fuzzy::ModelProblem found = fuzzy::find_problem(b.slot.model);
+    if (problem != nullptr) *problem = found;
+    if (found) return Status::kInvalidInput;
+    b.model_id = model_id;
+    published_ = true;
     a.current.store(next + 1, std::memory_order_release);
     return Status::kOk;
   }
@@ -150,6 +187,7 @@ class StaticMoveCompensator {
   };
 
   fuzzy::DomainPolicy outside_domain_;
+  bool published_ = false;  ///< publisher only: a publish has succeeded (the policy is fixed)
   // mutable: readers count themselves in and out of a buffer through a const compensator.
   mutable std::array<Axis, static_cast<std::size_t>(kAxes)> axes_{};
 };

@@ -285,8 +285,11 @@ class TskEvaluator {
   /// accumulator adds the same products in the same order, so t has the same bits; but only 8
   /// accumulators are live, which a scalar FPU keeps in registers (a Cortex-M7 has 32 single or
   /// 16 double), where sum_by_rule's 2·kBlock would be loaded and stored for every product.
+  /// (A member template, so that an explicit instantiation of the class, as training's Jet
+  /// test does, compiles it only where `forward` uses it.)
+  template <int kChunk = 4>
   static void sum_by_rule_chunked(const Scalar* consequents, const SetMajor& m, Block& t) noexcept {
-    constexpr int kChunk = 4;
+    static_assert(kChunk == 4, "the loop below is written out for 4 values");
     static_assert(kBlock % kChunk == 0, "the block is a whole number of chunks");
     Firing alpha;
     factored_firing(m, alpha);

@@ -90,6 +90,9 @@ ModelData parse_model_json(const std::string& text,
                            const std::string& source,
                            const ModelArchitecture& expected);
 std::string export_model_header(const ModelData& data, const std::string& symbol_name);
+std::string export_model_c_source(const ModelData& data,
+                                  const std::string& symbol_name,
+                                  bool single);
 std::string read_text_file(const std::string& path, const char* what);
 void write_text_file(const std::string& path, const std::string& text);
 
@@ -187,6 +190,19 @@ template <int kInputs, int kSets, int kOutputs>
 std::string export_model_header(const ModelFile<kInputs, kSets, kOutputs>& file,
                                 const std::string& symbol_name) {
   return detail::export_model_header(detail::to_data(file), symbol_name);
+}
+
+/// A C99 source defining `const cmmcomp_fw_model <symbol_name>` and `<symbol_name>_id` for the
+/// firmware C ABI (cmmcomp/compensator_fw.h): ranges in double, parameters in float when
+/// `single` (each the float nearest the double, as fuzzy::convert_model rounds) or in double
+/// (exact). It refuses to compile against a CMMCOMP_FW_INPUTS or CMMCOMP_FW_SCALAR other than
+/// the model's. Deterministic. Setup only. Throws ConfigError for a model the firmware ABI does
+/// not serve (other than 4 or 5 inputs, 3 sets, 4 outputs), or as export_model_header.
+template <int kInputs, int kSets, int kOutputs>
+std::string export_model_c_source(const ModelFile<kInputs, kSets, kOutputs>& file,
+                                  const std::string& symbol_name,
+                                  bool single) {
+  return detail::export_model_c_source(detail::to_data(file), symbol_name, single);
 }
 
 /// The sizes in a model file's `architecture`, to choose the ModelFile type to parse it with.

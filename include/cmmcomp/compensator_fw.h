@@ -1,0 +1,70 @@
+/* SPDX-License-Identifier: MIT */
+/** @file C ABI of the firmware compensator: no heap, no file system, no OS (C99).
+ *
+ * For controller firmware in C on an MCU (docs/firmware.md). The model is compiled into the
+ * image: `cmmcomp-train export MODEL.json --c-source model.c --symbol NAME [--scalar float]`
+ * writes a `const cmmcomp_fw_model NAME` (and NAME_id) in the layout below. One static
+ * compensator serves every axis; its storage is in the library's .bss (2 buffers per axis).
+ *
+ * The model's shape is fixed when the firmware is built, by two macros that the library and
+ * every file including this header must agree on (the build passes them to both):
+ *   CMMCOMP_FW_INPUTS   4 (PV, PD, AV, AD; default) or 5 (and Y)
+ *   CMMCOMP_FW_SCALAR   float (default: a Cortex-M7 evaluates it in 8290 instructions) or double
+ * Threading: one publisher (main loop) and readers that preempt it (interrupts, higher-priority
+ * tasks on the same core), as compensation/static_compensator.hpp explains. Request, correction,
+ * flags and codes are those of compensator.h. */
+#ifndef CMMCOMP_COMPENSATOR_FW_H
+#define CMMCOMP_COMPENSATOR_FW_H
+
+#include <cmmcomp/compensator.h>
+#include <stdint.h>
+
+#ifndef CMMCOMP_FW_INPUTS
+#define CMMCOMP_FW_INPUTS 4
+#endif
+#ifndef CMMCOMP_FW_SCALAR
+#define CMMCOMP_FW_SCALAR float
+#endif
+#if CMMCOMP_FW_INPUTS != 4 && CMMCOMP_FW_INPUTS != 5
+#error "CMMCOMP_FW_INPUTS must be 4 or 5"
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Rules of the network: 3 Gaussian sets per input, 3^inputs. */
+#define CMMCOMP_FW_RULES (CMMCOMP_FW_INPUTS == 5 ? 243 : 81)
+/** Parameters (docs/model-file.md, tsk_params.hpp): centres and widths, 3 per input, then
+ * 4 outputs x rules x (inputs + 1) consequents. */
+#define CMMCOMP_FW_PARAMS \
+  (2 * 3 * CMMCOMP_FW_INPUTS + 4 * CMMCOMP_FW_RULES * (CMMCOMP_FW_INPUTS + 1))
+
+/** A model in memory, in the evaluator's layout: what the exported C source defines. */
+typedef struct cmmcomp_fw_model {
+  double ranges[CMMCOMP_FW_INPUTS][2];         /**< {lo, hi} of each input, raw units */
+  CMMCOMP_FW_SCALAR params[CMMCOMP_FW_PARAMS]; /**< normalised-input parameters */
+} cmmcomp_fw_model;
+
+/** Outside-domain policy of every before_approach (fixed before the first publish):
+ * 0 clamp (default), 1 extrapolate, 2 reject. Not RT-safe; returns CMMCOMP_E_ARGUMENT for any
+ * other value or once a model has been published. */
+int cmmcomp_fw_set_outside_domain(int policy);
+
+/** Copies `model` into the free buffer of `axis` and makes it serve every before_approach that
+ * starts after this returns. Publisher only; bounded time (one copy of the model), no
+ * allocation, never waits. Returns 0; CMMCOMP_E_ARGUMENT (null model, axis >=
+ * CMMCOMP_MAX_AXES); CMMCOMP_E_MODEL (a range not finite or empty, a parameter not finite, a
+ * width <= 0); CMMCOMP_E_BUSY (a reader is inside that buffer: the contract is broken). On
+ * error the old model keeps serving. */
+int cmmcomp_fw_publish(uint32_t axis, const cmmcomp_fw_model* model, uint64_t model_id);
+
+/** As cmmcomp_before_approach (compensator.h), on the firmware compensator. RT-safe, callable
+ * from an interrupt handler: no allocation, no lock, no syscall. */
+int cmmcomp_fw_before_approach(const cmmcomp_move_request* in, cmmcomp_correction* out);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* CMMCOMP_COMPENSATOR_FW_H */

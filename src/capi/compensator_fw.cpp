@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+/// @file The firmware C ABI (include/cmmcomp/compensator_fw.h) over
+/// compensation::StaticMoveCompensator. Needs only the core: it builds for bare metal
+/// (-fno-exceptions, newlib) as well as for a hosted test.
+#include <cmmcomp/compensator_fw.h>
+
+#include <cmmcomp/compensation/static_compensator.hpp>
+#include <cstddef>
+
+#include "capi_types.hpp"
+
+namespace {
+
+using Model = cmmcomp::fuzzy::TskModel<CMMCOMP_FW_SCALAR, CMMCOMP_FW_INPUTS, 3, 4>;
+
+// cmmcomp_fw_model is Model's layout spelled in C: the copy below relies on it.
+static_assert(sizeof(cmmcomp_fw_model) == sizeof(Model), "cmmcomp_fw_model is TskModel's layout");
+static_assert(offsetof(cmmcomp_fw_model, params) == offsetof(Model, params),
+              "cmmcomp_fw_model is TskModel's layout");
+static_assert(CMMCOMP_FW_PARAMS == Model::kParamCount, "parameter count");
+static_assert(CMMCOMP_FW_RULES == Model::kRules, "rule count");
+static_assert(sizeof(cmmcomp::fuzzy::InputRange) == 2 * sizeof(double), "ranges are {lo, hi}");
+
+cmmcomp::compensation::StaticMoveCompensator<Model> g_compensator;
+
+}  // namespace
+
+extern "C" {
+
+int cmmcomp_fw_set_outside_domain(int policy) {
+  if (policy < 0 || policy > 2) return CMMCOMP_E_ARGUMENT;
+  return g_compensator.set_outside_domain(static_cast<cmmcomp::fuzzy::DomainPolicy>(policy))
+             ? CMMCOMP_OK
+             : CMMCOMP_E_ARGUMENT;
+}
+
+int cmmcomp_fw_publish(uint32_t axis, const cmmcomp_fw_model* model, uint64_t model_id) {
+  if (model == nullptr || axis >= CMMCOMP_MAX_AXES) return CMMCOMP_E_ARGUMENT;
+  const cmmcomp::Status s =
+      g_compensator.publish_bytes(static_cast<int>(axis), model, sizeof *model, model_id);
+  if (s == cmmcomp::Status::kInvalidInput) return CMMCOMP_E_MODEL;
+  return static_cast<int>(s);
+}
+
+int cmmcomp_fw_before_approach(const cmmcomp_move_request* in, cmmcomp_correction* out) {
+  if (in == nullptr || out == nullptr) return CMMCOMP_E_ARGUMENT;
+  if (in->axis >= CMMCOMP_MAX_AXES) return CMMCOMP_E_INVALID_INPUT;
+  cmmcomp::compensation::Correction r;
+  const cmmcomp::Status s = g_compensator.before_approach(cmmcomp::capi::to_move_request(*in), r);
+  if (!cmmcomp::ok(s)) return static_cast<int>(s);
+  cmmcomp::capi::write_correction(r, *out);
+  return CMMCOMP_OK;
+}
+
+}  // extern "C"

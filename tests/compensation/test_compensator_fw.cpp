@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+/// @file The firmware C ABI (cmmcomp/compensator_fw.h): the shipped model exported as C source
+/// (data/models/default-float.c) answers exactly as the C++ StaticMoveCompensator serving the
+/// constexpr header converted to float; bad models and requests give codes and keep the old model.
+#include <cmmcomp/compensator_fw.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cmmcomp/compensation/static_compensator.hpp>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "capi/capi_types.hpp"
+#include "default.hpp"
+#include "support/test_seed.hpp"
+
+extern "C" const cmmcomp_fw_model default_model_f;
+extern "C" const uint64_t default_model_f_id;
+
+namespace {
+
+using ModelF = cmmcomp::fuzzy::TskModel<float, 4, 3, 4>;
+cmmcomp::compensation::StaticMoveCompensator<ModelF> g_reference;
+
+cmmcomp_move_request random_request(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  cmmcomp_move_request r{};
+  r.sequence = static_cast<uint32_t>(rng());
+  r.axis = static_cast<uint32_t>(rng() % CMMCOMP_MAX_AXES);
+  r.direction[2] = -1.0;
+  r.pv_mm_s = 30.0 + 80.0 * u(rng);
+  r.pa_mm_s2 = 200.0;
+  r.pd_mm = 35.0 + 50.0 * u(rng);
+  r.av_mm_s = 6.0 + 12.0 * u(rng);
+  r.aa_mm_s2 = 60.0;
+  r.ad_mm = 4.0 + 12.0 * u(rng);
+  return r;
+}
+
+// One test, because the C ABI has one compensator: the order of these steps matters.
+TEST(CompensatorFw, ServesTheExportedModelExactlyAsTheCppCompensator) {
+  cmmcomp_move_request request{};
+  cmmcomp_correction out{};
+  std::mt19937_64 rng(cmmcomp::test::seed());
+  request = random_request(rng);
+  EXPECT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_E_NO_MODEL);
+  EXPECT_EQ(cmmcomp_fw_set_outside_domain(7), CMMCOMP_E_ARGUMENT);
+  EXPECT_EQ(cmmcomp_fw_set_outside_domain(0), CMMCOMP_OK);  // before the first publish
+  EXPECT_EQ(cmmcomp_fw_publish(CMMCOMP_MAX_AXES, &default_model_f, 1), CMMCOMP_E_ARGUMENT);
+  EXPECT_EQ(cmmcomp_fw_publish(0, nullptr, 1), CMMCOMP_E_ARGUMENT);
+  for (uint32_t axis = 0; axis < CMMCOMP_MAX_AXES; ++axis) {
+    ASSERT_EQ(cmmcomp_fw_publish(axis, &default_model_f, default_model_f_id), CMMCOMP_OK);
+    ASSERT_EQ(g_reference.publish(static_cast<int>(axis),
+                                  cmmcomp::fuzzy::convert_model<float>(default_model),
+                                  default_model_f_id),
+              cmmcomp::Status::kOk);
+  }
+  EXPECT_EQ(cmmcomp_fw_set_outside_domain(1), CMMCOMP_E_ARGUMENT);  // fixed once published
+  for (int k = 0; k < 2000; ++k) {
+    request = random_request(rng);
+    cmmcomp::compensation::Correction expected;
+    const cmmcomp::Status s =
+        g_reference.before_approach(cmmcomp::capi::to_move_request(request), expected);
+    const int code = cmmcomp_fw_before_approach(&request, &out);
+    ASSERT_EQ(code, cmmcomp::ok(s) ? 0 : static_cast<int>(s)) << "move " << k;
+    if (code != 0) continue;
+    EXPECT_EQ(std::memcmp(&out.rae_um, &expected.rae_um, sizeof(double)), 0) << "move " << k;
+    EXPECT_EQ(std::memcmp(&out.mpe_um, &expected.mpe_um, sizeof(double)), 0) << "move " << k;
+    EXPECT_EQ(out.correction_um[2], -expected.rae_um);
+    EXPECT_EQ(out.flags, expected.flags);
+    EXPECT_EQ(out.model_id, default_model_f_id);
+    EXPECT_EQ(out.sequence, request.sequence);
+  }
+  // A corrupt model is refused; the one published keeps serving.
+  static cmmcomp_fw_model corrupt;
+  std::memcpy(&corrupt, &default_model_f, sizeof corrupt);
+  corrupt.params[2 * 3 * 4 + 5] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(cmmcomp_fw_publish(1, &corrupt, 99), CMMCOMP_E_MODEL);
+  std::memcpy(&corrupt, &default_model_f, sizeof corrupt);
+  corrupt.params[4 * 3 + 1] = -0.5f;  // a width
+  EXPECT_EQ(cmmcomp_fw_publish(1, &corrupt, 98), CMMCOMP_E_MODEL);
+  request = random_request(rng);
+  request.axis = 1;
+  ASSERT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_OK);
+  EXPECT_EQ(out.model_id, default_model_f_id);
+  // Bad requests.
+  EXPECT_EQ(cmmcomp_fw_before_approach(nullptr, &out), CMMCOMP_E_ARGUMENT);
+  EXPECT_EQ(cmmcomp_fw_before_approach(&request, nullptr), CMMCOMP_E_ARGUMENT);
+  request.axis = CMMCOMP_MAX_AXES;
+  EXPECT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_E_INVALID_INPUT);
+  request.axis = 0;
+  request.pv_mm_s = std::nan("");
+  EXPECT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_E_INVALID_INPUT);
+}
+
+}  // namespace
