@@ -55,8 +55,7 @@ extern "C" {
 #define CMMCOMP_E_INVALID_INPUT (-100) /**< NaN, inf, <= 0, bad axis or direction in a request */
 #define CMMCOMP_E_NO_MODEL (-101)      /**< no model published (not returned by this ABI today) */
 #define CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED (-103) /**< outside the training domain, rejected */
-#define CMMCOMP_E_BUSY (-104) /**< firmware publish only: a reader is inside the buffer it needs \
-                               */
+#define CMMCOMP_E_BUSY (-104)                    /**< firmware publish: a reader holds the buffer */
 
 /** One probing move, announced before its approach. */
 typedef struct cmmcomp_move_request {
