@@ -10,12 +10,12 @@
 #error "this model has 4 inputs: build with CMMCOMP_FW_INPUTS=4"
 #endif
 /* The parameters are float: the build must say CMMCOMP_FW_SCALAR=float. */
-typedef char default_model_f_scalar_is_float[sizeof(CMMCOMP_FW_SCALAR) == 4 ? 1 : -1];
+typedef char default_model_c_scalar_is_float[sizeof(CMMCOMP_FW_SCALAR) == 4 ? 1 : -1];
 
 /* Model id: first 16 hex digits of the checksum (cmmcomp_fw_publish's model_id). */
-const uint64_t default_model_f_id = 0x051e754fa7564c73u;
+const uint64_t default_model_c_id = 0x051e754fa7564c73u;
 
-const cmmcomp_fw_model default_model_f = {
+const cmmcomp_fw_model default_model_c = {
     /* ranges {lo, hi} of each input */
     {
         {40.0, 100.0},  /* pv_mm_s [mm/s] */

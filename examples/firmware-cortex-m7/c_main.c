@@ -7,8 +7,8 @@
 #include <inttypes.h>
 #include <stdio.h>
 
-extern const cmmcomp_fw_model default_model_f;
-extern const uint64_t default_model_f_id;
+extern const cmmcomp_fw_model default_model_c;
+extern const uint64_t default_model_c_id;
 
 static cmmcomp_move_request move(uint32_t sequence, double pv, double pd, double av, double ad) {
   cmmcomp_move_request m = {0};
@@ -28,7 +28,7 @@ int main(void) {
   int failures = 0;
   uint32_t axis;
   for (axis = 0; axis < CMMCOMP_MAX_AXES; ++axis) {
-    const int code = cmmcomp_fw_publish(axis, &default_model_f, default_model_f_id);
+    const int code = cmmcomp_fw_publish(axis, &default_model_c, default_model_c_id);
     if (code != CMMCOMP_OK) {
       printf("c example: publish axis %" PRIu32 ": %d\n", axis, code);
       return 1;

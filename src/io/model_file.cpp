@@ -810,7 +810,7 @@ void append_flat_block(std::string& h, const ModelData& data, Literal&& literal)
   }
 }
 
-std::string export_model_header(const ModelData& data, const std::string& symbol_name) {
+std::string export_model_header(const ModelData& data, const std::string& symbol_name, bool single) {
   if (!is_identifier(symbol_name)) {
     throw ConfigError("export_model_header: symbol name '" + symbol_name +
                       "' is not a C identifier");
@@ -870,8 +870,8 @@ std::string export_model_header(const ModelData& data, const std::string& symbol
                  "inline constexpr char {}_model_id[] = \"{}\";\n"
                  "/// SHA-256 of the model file content (docs/model-file.md, checksum rule).\n"
                  "inline constexpr char {}_checksum[] = \"{}\";\n\n"
-                 "/// The network; evaluate it with cmmcomp::fuzzy::evaluate.\n"
-                 "inline constexpr cmmcomp::fuzzy::TskModel<double, {}, {}, {}> {} = {{\n"
+                 "/// The network{}; evaluate it with cmmcomp::fuzzy::evaluate.\n"
+                 "inline constexpr cmmcomp::fuzzy::TskModel<{}, {}, {}, {}> {} = {{\n"
                  "    // ranges {{lo, hi}} of each input\n"
                  "    {{{{\n",
                  t.method,
@@ -884,6 +884,8 @@ std::string export_model_header(const ModelData& data, const std::string& symbol
                  id,
                  symbol_name,
                  checksum,
+                 single ? " in float (each parameter the float nearest the model file's double)" : "",
+                 single ? "float" : "double",
                  data.inputs,
                  data.sets,
                  data.outputs,
@@ -895,7 +897,11 @@ std::string export_model_header(const ModelData& data, const std::string& symbol
        "    // parameters: empty TskLayout base, then the flat block (layout in tsk_params.hpp)\n"
        "    {{},\n"
        "     {{\n";
-  append_flat_block(h, data, double_literal);
+  if (single) {
+    append_flat_block(h, data, float_literal);
+  } else {
+    append_flat_block(h, data, double_literal);
+  }
   h += "     }}}};\n"
        "// clang-format on\n";
   return h;

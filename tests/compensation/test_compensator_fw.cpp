@@ -15,8 +15,8 @@
 #include "default.hpp"
 #include "support/test_seed.hpp"
 
-extern "C" const cmmcomp_fw_model default_model_f;
-extern "C" const uint64_t default_model_f_id;
+extern "C" const cmmcomp_fw_model default_model_c;
+extern "C" const uint64_t default_model_c_id;
 
 namespace {
 
@@ -47,13 +47,13 @@ TEST(CompensatorFw, ServesTheExportedModelExactlyAsTheCppCompensator) {
   EXPECT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_E_NO_MODEL);
   EXPECT_EQ(cmmcomp_fw_set_outside_domain(7), CMMCOMP_E_ARGUMENT);
   EXPECT_EQ(cmmcomp_fw_set_outside_domain(0), CMMCOMP_OK);  // before the first publish
-  EXPECT_EQ(cmmcomp_fw_publish(CMMCOMP_MAX_AXES, &default_model_f, 1), CMMCOMP_E_ARGUMENT);
+  EXPECT_EQ(cmmcomp_fw_publish(CMMCOMP_MAX_AXES, &default_model_c, 1), CMMCOMP_E_ARGUMENT);
   EXPECT_EQ(cmmcomp_fw_publish(0, nullptr, 1), CMMCOMP_E_ARGUMENT);
   for (uint32_t axis = 0; axis < CMMCOMP_MAX_AXES; ++axis) {
-    ASSERT_EQ(cmmcomp_fw_publish(axis, &default_model_f, default_model_f_id), CMMCOMP_OK);
+    ASSERT_EQ(cmmcomp_fw_publish(axis, &default_model_c, default_model_c_id), CMMCOMP_OK);
     ASSERT_EQ(g_reference.publish(static_cast<int>(axis),
                                   cmmcomp::fuzzy::convert_model<float>(default_model),
-                                  default_model_f_id),
+                                  default_model_c_id),
               cmmcomp::Status::kOk);
   }
   EXPECT_EQ(cmmcomp_fw_set_outside_domain(1), CMMCOMP_E_ARGUMENT);  // fixed once published
@@ -69,21 +69,21 @@ TEST(CompensatorFw, ServesTheExportedModelExactlyAsTheCppCompensator) {
     EXPECT_EQ(std::memcmp(&out.mpe_um, &expected.mpe_um, sizeof(double)), 0) << "move " << k;
     EXPECT_EQ(out.correction_um[2], -expected.rae_um);
     EXPECT_EQ(out.flags, expected.flags);
-    EXPECT_EQ(out.model_id, default_model_f_id);
+    EXPECT_EQ(out.model_id, default_model_c_id);
     EXPECT_EQ(out.sequence, request.sequence);
   }
   // A corrupt model is refused; the one published keeps serving.
   static cmmcomp_fw_model corrupt;
-  std::memcpy(&corrupt, &default_model_f, sizeof corrupt);
+  std::memcpy(&corrupt, &default_model_c, sizeof corrupt);
   corrupt.params[2 * 3 * 4 + 5] = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(cmmcomp_fw_publish(1, &corrupt, 99), CMMCOMP_E_MODEL);
-  std::memcpy(&corrupt, &default_model_f, sizeof corrupt);
+  std::memcpy(&corrupt, &default_model_c, sizeof corrupt);
   corrupt.params[4 * 3 + 1] = -0.5f;  // a width
   EXPECT_EQ(cmmcomp_fw_publish(1, &corrupt, 98), CMMCOMP_E_MODEL);
   request = random_request(rng);
   request.axis = 1;
   ASSERT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_OK);
-  EXPECT_EQ(out.model_id, default_model_f_id);
+  EXPECT_EQ(out.model_id, default_model_c_id);
   // Bad requests.
   EXPECT_EQ(cmmcomp_fw_before_approach(nullptr, &out), CMMCOMP_E_ARGUMENT);
   EXPECT_EQ(cmmcomp_fw_before_approach(&request, nullptr), CMMCOMP_E_ARGUMENT);

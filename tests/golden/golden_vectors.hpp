@@ -17,21 +17,38 @@
 #include <cstring>
 #include <limits>
 
-#include "default-y.hpp"  // data/models/default-y.hpp: cmmcomp-train export of default-y.json
-#include "default.hpp"    // data/models/default.hpp: cmmcomp-train export of default.json
+#include "default-float.hpp"  // data/models/: cmmcomp-train export --scalar float of default.json
+#include "default-y.hpp"      // data/models/: cmmcomp-train export of default-y.json
+#include "default.hpp"        // data/models/: cmmcomp-train export of default.json
 
 namespace cmmcomp::golden {
 
 static_assert(!fuzzy::find_problem(default_model), "the shipped 4-input model is valid");
 static_assert(!fuzzy::find_problem(default_y_model), "the shipped 5-input model is valid");
 
-/// The float forms of the shipped models, converted at compile time (read-only memory).
-inline constexpr auto kDefaultModelF = fuzzy::convert_model<float>(default_model);
+/// The float forms of the shipped models: the exported float header, and a compile-time
+/// conversion for the 5-input one (read-only memory either way).
+inline constexpr const auto& kDefaultModelF = default_model_f;
 inline constexpr auto kDefaultYModelF = fuzzy::convert_model<float>(default_y_model);
 
 /// Largest |float − double| accepted on an output [µm] for an input inside the model's
 /// ranges (or clamped into them): the and docs/firmware.md's limit.
 inline constexpr double kFloatToleranceUm = 1e-3;
+
+/// True when `a` and `b` hold the same ranges and parameters.
+template <typename Model>
+constexpr bool same_model(const Model& a, const Model& b) {
+  for (std::size_t i = 0; i < a.ranges.size(); ++i) {
+    if (a.ranges[i].lo != b.ranges[i].lo || a.ranges[i].hi != b.ranges[i].hi) return false;
+  }
+  for (std::size_t k = 0; k < a.params.values.size(); ++k) {
+    if (a.params.values[k] != b.params.values[k]) return false;
+  }
+  return true;
+}
+// The exported float header holds exactly what the compile-time conversion gives.
+static_assert(same_model(default_model_f, fuzzy::convert_model<float>(default_model)),
+              "export --scalar float rounds each parameter to the nearest float");
 
 /// Header of the CSV file; every value a bit pattern in hex, so no target's printf or strtod
 /// is trusted with a decimal conversion. The decimal columns after it are for people only.

@@ -291,10 +291,9 @@ int main(int argc, char** argv) {
                       "output: C99 source of a cmmcomp_fw_model (cmmcomp/compensator_fw.h)");
   header_opt->excludes(c_opt);
   exp->add_option("--symbol", symbol, "C or C++ name of the model")->capture_default_str();
-  exp->add_option("--scalar", scalar, "parameters of the C source in float or double")
+  exp->add_option("--scalar", scalar, "precision of the exported parameters: double or float")
       ->check(CLI::IsMember({"double", "float"}))
-      ->capture_default_str()
-      ->needs(c_opt);
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);
@@ -322,7 +321,7 @@ int main(int argc, char** argv) {
       const std::string text = std::visit(
           [&](const auto& file) {
             return c_source ? cmmcomp::io::export_model_c_source(file, symbol, scalar == "float")
-                            : cmmcomp::io::export_model_header(file, symbol);
+                            : cmmcomp::io::export_model_header(file, symbol, scalar == "float");
           },
           any);
       const std::string& path = c_source ? c_source_path : header_path;

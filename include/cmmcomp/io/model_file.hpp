@@ -89,7 +89,7 @@ std::string format_model_json(const ModelData& data);
 ModelData parse_model_json(const std::string& text,
                            const std::string& source,
                            const ModelArchitecture& expected);
-std::string export_model_header(const ModelData& data, const std::string& symbol_name);
+std::string export_model_header(const ModelData& data, const std::string& symbol_name, bool single);
 std::string export_model_c_source(const ModelData& data,
                                   const std::string& symbol_name,
                                   bool single);
@@ -186,10 +186,13 @@ std::string save_model_file(const std::string& path,
 /// with every double written round-trip exact (`%.17g`), and names, units, ranges and training
 /// metadata as comments. The text depends only on the content (deterministic). Setup only.
 /// Throws ConfigError if `symbol_name` is not a C identifier, or as format_model_json.
+/// With `single`, the model is a TskModel<float, …> whose parameters are each the float nearest
+/// the file's double (the values fuzzy::convert_model<float> gives), for an MCU's float path.
 template <int kInputs, int kSets, int kOutputs>
 std::string export_model_header(const ModelFile<kInputs, kSets, kOutputs>& file,
-                                const std::string& symbol_name) {
-  return detail::export_model_header(detail::to_data(file), symbol_name);
+                                const std::string& symbol_name,
+                                bool single = false) {
+  return detail::export_model_header(detail::to_data(file), symbol_name, single);
 }
 
 /// A C99 source defining `const cmmcomp_fw_model <symbol_name>` and `<symbol_name>_id` for the
