@@ -810,7 +810,9 @@ void append_flat_block(std::string& h, const ModelData& data, Literal&& literal)
   }
 }
 
-std::string export_model_header(const ModelData& data, const std::string& symbol_name, bool single) {
+std::string export_model_header(const ModelData& data,
+                                const std::string& symbol_name,
+                                bool single) {
   if (!is_identifier(symbol_name)) {
     throw ConfigError("export_model_header: symbol name '" + symbol_name +
                       "' is not a C identifier");
@@ -861,35 +863,36 @@ std::string export_model_header(const ModelData& data, const std::string& symbol
                    data.output_units[o],
                    double_literal(t.cv_rmse[o]));
   }
-  fmt::format_to(out,
-                 "/// training: method \"{}\", lambda {}, seed {}, trained_at {}, tool \"{}\", "
-                 "data_file_sha256 \"{}\"\n"
-                 "#pragma once\n\n"
-                 "#include <cmmcomp/fuzzy/tsk_evaluator.hpp>\n\n"
-                 "/// Model id: first 16 hex digits of the checksum.\n"
-                 "inline constexpr char {}_model_id[] = \"{}\";\n"
-                 "/// SHA-256 of the model file content (docs/model-file.md, checksum rule).\n"
-                 "inline constexpr char {}_checksum[] = \"{}\";\n\n"
-                 "/// The network{}; evaluate it with cmmcomp::fuzzy::evaluate.\n"
-                 "inline constexpr cmmcomp::fuzzy::TskModel<{}, {}, {}, {}> {} = {{\n"
-                 "    // ranges {{lo, hi}} of each input\n"
-                 "    {{{{\n",
-                 t.method,
-                 double_literal(t.lambda),
-                 t.seed,
-                 t.trained_at,
-                 t.tool_version,
-                 t.data_file_sha256,
-                 symbol_name,
-                 id,
-                 symbol_name,
-                 checksum,
-                 single ? " in float (each parameter the float nearest the model file's double)" : "",
-                 single ? "float" : "double",
-                 data.inputs,
-                 data.sets,
-                 data.outputs,
-                 symbol_name);
+  fmt::format_to(
+      out,
+      "/// training: method \"{}\", lambda {}, seed {}, trained_at {}, tool \"{}\", "
+      "data_file_sha256 \"{}\"\n"
+      "#pragma once\n\n"
+      "#include <cmmcomp/fuzzy/tsk_evaluator.hpp>\n\n"
+      "/// Model id: first 16 hex digits of the checksum.\n"
+      "inline constexpr char {}_model_id[] = \"{}\";\n"
+      "/// SHA-256 of the model file content (docs/model-file.md, checksum rule).\n"
+      "inline constexpr char {}_checksum[] = \"{}\";\n\n"
+      "/// The network{}; evaluate it with cmmcomp::fuzzy::evaluate.\n"
+      "inline constexpr cmmcomp::fuzzy::TskModel<{}, {}, {}, {}> {} = {{\n"
+      "    // ranges {{lo, hi}} of each input\n"
+      "    {{{{\n",
+      t.method,
+      double_literal(t.lambda),
+      t.seed,
+      t.trained_at,
+      t.tool_version,
+      t.data_file_sha256,
+      symbol_name,
+      id,
+      symbol_name,
+      checksum,
+      single ? " in float (each parameter the float nearest the model file's double)" : "",
+      single ? "float" : "double",
+      data.inputs,
+      data.sets,
+      data.outputs,
+      symbol_name);
   for (const fuzzy::InputRange& r : data.ranges) {
     fmt::format_to(out, "        {{{}, {}}},\n", double_literal(r.lo), double_literal(r.hi));
   }
