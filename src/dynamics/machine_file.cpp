@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/error.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -354,11 +355,7 @@ Machine parse_machine(const std::string& text, const std::string& source) {
 }
 
 Machine load_machine(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path + ": cannot open machine file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_machine(text.str(), path);
+  return parse_machine(io::read_file_bounded(path, "machine file", io::kMaxTextFileBytes), path);
 }
 
 std::string format_machine(const Machine& machine) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -104,11 +105,7 @@ std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::st
 }
 
 std::vector<DatasetRow> read_dataset_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_dataset_csv(text.str(), path);
+  return parse_dataset_csv(read_file_bounded(path, "dataset CSV", kMaxTextFileBytes), path);
 }
 
 std::string format_dataset_csv(const std::vector<DatasetRow>& rows) {
@@ -128,9 +125,7 @@ std::string format_dataset_csv(const std::vector<DatasetRow>& rows) {
 }
 
 void write_dataset_csv(const std::string& path, const std::vector<DatasetRow>& rows) {
-  std::ofstream out(path, std::ios::binary);
-  out << format_dataset_csv(rows);
-  if (!out) throw Error(path + ": cannot write");
+  write_file_atomically(path, format_dataset_csv(rows));
 }
 
 }  // namespace cmmcomp::io

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cmmcomp/error.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cstdint>
 #include <cstdio>
@@ -448,7 +449,47 @@ class Reader {
   std::string source_;
 };
 
+// Nesting deeper than any model file needs: refused before the parser and the recursive
+// dump/destroy of nlohmann::json can overflow the stack on a hostile file.
+constexpr int kMaxJsonDepth = 32;
+
+// The deepest nesting of arrays and objects in `text` (outside strings), scanning once.
+int json_depth(const std::string& text) {
+  int depth = 0;
+  int deepest = 0;
+  bool in_string = false;
+  bool escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
 Json parse_document(const std::string& text, const std::string& source) {
+  if (text.size() > kMaxModelFileBytes) {
+    throw ConfigError(fmt::format("{}: {} bytes, more than the {} bytes a model file may have",
+                                  source,
+                                  text.size(),
+                                  kMaxModelFileBytes));
+  }
+  if (json_depth(text) > kMaxJsonDepth) {
+    throw ConfigError(fmt::format(
+        "{}: JSON nested deeper than {} levels: not a model file", source, kMaxJsonDepth));
+  }
   Json doc;
   try {
     doc = Json::parse(text);
@@ -993,20 +1034,11 @@ std::string export_model_c_source(const ModelData& data,
 }
 
 std::string read_text_file(const std::string& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path + ": cannot open " + what);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw ConfigError(path + ": cannot read " + what);
-  return text.str();
+  return read_file_bounded(path, what, kMaxModelFileBytes);
 }
 
 void write_text_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(path + ": cannot open for writing");
-  out << text;
-  out.close();
-  if (!out) throw Error(path + ": write failed");
+  write_file_atomically(path, text);
 }
 
 }  // namespace detail
@@ -1023,7 +1055,7 @@ std::string sha256_hex(const std::string& bytes) {
 }
 
 std::string sha256_file_hex(const std::string& path) {
-  return sha256_hex(detail::read_text_file(path, "file"));
+  return sha256_hex(read_file_bounded(path, "file", kMaxTextFileBytes));
 }
 
 std::string utc_timestamp_now() {

@@ -155,6 +155,41 @@ TEST(StaticMoveCompensator, ServesAFloatModelWithinAMicronThousandth) {
   }
 }
 
+// A model whose RAE is finite but so large that RAE·d overflows (|d| may exceed 1 by
+// kDirectionTolerance) gave ok with an infinite correction (issue 16, D7). Only the corner rule
+// fires (widths 0.01), so the output is the consequent constant exactly.
+TEST(Compensators, NeverReturnAnInfiniteCorrection) {
+  Model m = linear_model({0, 0, 0, 0}, {0, 0, 0, 0});
+  for (int i = 0; i < 4; ++i) {
+    for (int s = 0; s < 3; ++s) m.params.width(i, s) = 0.01;
+  }
+  for (int j = 0; j < Model::kRules; ++j) {
+    m.params.consequent(3, j, 0) = std::numeric_limits<double>::max() * 0.9999999;
+  }
+  MoveRequest move;
+  move.axis = 0;
+  move.direction = {1.0 + 9e-7, 0.0, 0.0};  // |d| = 1 + 9e-7, accepted
+  move.pv_mm_s = 5.0;                       // every input at its range's low end: rule 0 alone
+  move.pd_mm = 1.0;
+  move.av_mm_s = 1.0;
+  move.ad_mm = 0.5;
+  move.pa_mm_s2 = move.aa_mm_s2 = 100.0;
+  MoveCompensator hosted;
+  static StaticMoveCompensator<Model> firmware;
+  ASSERT_EQ(hosted.publish(0, m), Status::kOk);
+  ASSERT_EQ(firmware.publish(0, m), Status::kOk);
+  const Correction untouched;
+  Correction a = untouched;
+  Correction b = untouched;
+  EXPECT_EQ(hosted.before_approach(move, a), Status::kInvalidInput);
+  EXPECT_EQ(firmware.before_approach(move, b), Status::kInvalidInput);
+  EXPECT_TRUE(same(a, untouched));
+  EXPECT_TRUE(same(b, untouched));
+  move.direction = {1.0, 0.0, 0.0};  // exactly 1: RAE·d = RAE, finite
+  EXPECT_TRUE(ok(hosted.before_approach(move, a)));
+  EXPECT_TRUE(std::isfinite(a.correction_um[0]));
+}
+
 // --- Hot swap with an interrupt --------------------------------------------------------------
 // The main loop publishes models A (id 1) and B (id 2) alternately; a SIGALRM handler (which,
 // like an ISR, runs to completion before the interrupted code resumes) calls before_approach and

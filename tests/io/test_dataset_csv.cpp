@@ -63,7 +63,8 @@ TEST(DatasetCsv, MissingFileIsAClearError) {
     read_dataset_csv("/nonexistent/data.csv");
     FAIL() << "no exception";
   } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "/nonexistent/data.csv: cannot open for reading");
+    EXPECT_STREQ(e.what(),
+                 "/nonexistent/data.csv: cannot open dataset CSV (No such file or directory)");
   }
 }
 

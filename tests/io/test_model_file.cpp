@@ -5,6 +5,7 @@
 
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cstdint>
 #include <cstdlib>
@@ -504,7 +505,7 @@ TEST(ModelFileRejects, FileThatCannotBeOpened) {
     (void)load_model_file<4, 3, 4>(path);
     FAIL() << "loaded";
   } catch (const ConfigError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": cannot open model file");
+    EXPECT_EQ(std::string(e.what()), path + ": cannot open model file (No such file or directory)");
   }
   EXPECT_THROW((void)save_model_file(path, golden_model()), Error);
   EXPECT_THROW((void)sha256_file_hex(path), ConfigError);
@@ -583,6 +584,31 @@ TEST(ModelFileDoc, ExampleParses) {
   const ModelFile<1, 2, 1> f = parse_model_json<1, 2, 1>(example, "docs/model-file.md");
   expect_same(f, doc_example_model());
   EXPECT_NE(doc.find(f.model_id), std::string::npos) << "the doc should quote the model id";
+}
+
+}  // namespace
+}  // namespace cmmcomp::io
+
+namespace cmmcomp::io {
+namespace {
+
+// A model file nested 65 000 deep (130 kB) overflowed the stack when its error message dumped
+// the value whole (issue 16, D1): it is refused before parsing, with a short message.
+TEST(ModelFileHostile, DeepNestingIsRefusedBeforeParsing) {
+  const std::string deep = std::string(65000, '[') + std::string(65000, ']');
+  const std::string message = error_of(deep);
+  EXPECT_NE(message.find("nested deeper than 32 levels"), std::string::npos) << message;
+  EXPECT_LT(message.size(), 200u);
+  const std::string deep_object = "{\"a\":" + std::string(40, '[') + std::string(40, ']') + "}";
+  EXPECT_NE(error_of(deep_object).find("nested deeper"), std::string::npos);
+  // Brackets inside strings do not count.
+  const std::string in_string = "{\"format\": \"" + std::string(100, '[') + "\"}";
+  EXPECT_EQ(error_of(in_string).find("nested deeper"), std::string::npos);
+}
+
+TEST(ModelFileHostile, OversizedTextIsRefused) {
+  const std::string huge(kMaxModelFileBytes + 1, ' ');
+  EXPECT_NE(error_of(huge).find("more than the 4194304 bytes"), std::string::npos);
 }
 
 }  // namespace

@@ -13,13 +13,13 @@
 #include <cmmcomp/dynamics/paper_check.hpp>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_anova.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <cmmcomp/training/machine_identification.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
 #include <exception>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -59,10 +59,10 @@ int run_profile(const MoveFlags& flags, const std::string& csv_path, int samples
   }
   std::fputs(cmmcomp::io::describe_profile(profile).c_str(), stdout);
   if (!csv_path.empty()) {
-    std::ofstream out(csv_path);
-    out << cmmcomp::io::profile_csv(profile, samples);
-    if (!out) {
-      std::fprintf(stderr, "cmmcomp-sim: cannot write %s\n", csv_path.c_str());
+    try {
+      cmmcomp::io::write_file_atomically(csv_path, cmmcomp::io::profile_csv(profile, samples));
+    } catch (const cmmcomp::Error& e) {
+      std::fprintf(stderr, "cmmcomp-sim: %s\n", e.what());
       return 1;
     }
     std::printf("wrote %s\n", csv_path.c_str());
@@ -126,9 +126,7 @@ int run_move(const MoveCommand& cmd) {
                          s.velocity_mm_s,
                          s.acceleration_mm_s2);
     }
-    std::ofstream out(cmd.trace_path);
-    out << csv;
-    if (!out) throw cmmcomp::Error(cmd.trace_path + ": cannot write");
+    cmmcomp::io::write_file_atomically(cmd.trace_path, csv);
   }
   return 0;
 }
@@ -388,9 +386,7 @@ int run_identify(const IdentifyCommand& cmd) {
     std::fprintf(stderr, "cmmcomp-sim: the fit is not usable: %s\n", r.termination.c_str());
     return 1;
   }
-  std::ofstream out(cmd.output);
-  out << cmmcomp::dynamics::format_machine(r.fitted);
-  if (!out) throw cmmcomp::Error(cmd.output + ": cannot write");
+  cmmcomp::io::write_file_atomically(cmd.output, cmmcomp::dynamics::format_machine(r.fitted));
   std::printf("\nwrote %s\n", cmd.output.c_str());
   return 0;
 }
@@ -640,9 +636,7 @@ int main(int argc, char** argv) {
       if (machine_out.empty()) {
         std::fputs(text.c_str(), stdout);
       } else {
-        std::ofstream out(machine_out);
-        out << text;
-        if (!out) throw cmmcomp::Error(machine_out + ": cannot write");
+        cmmcomp::io::write_file_atomically(machine_out, text);
       }
       return 0;
     }

@@ -140,7 +140,7 @@ class MoveCompensator {
   /// RT-safe and wait-free: no allocation, no lock, no syscall, two atomic RMWs; never writes
   /// NaN or inf. `out` is untouched unless ok(status).
   /// Returns kOk; kOutsideDomain (policy kClamp or kExtrapolate; kFlagOutsideDomain set);
-  /// kInvalidInput (request fails validate_move, or the model's result is not finite);
+  /// kInvalidInput (request fails validate_move, or the model's result or RAE·d is not finite);
   /// kNoModel (nothing published for the axis); kOutsideDomainRejected (policy kReject).
   [[nodiscard]] Status before_approach(const MoveRequest& move, Correction& out) const noexcept {
     if (validate_move(move) != Status::kOk) return Status::kInvalidInput;
@@ -158,8 +158,7 @@ class MoveCompensator {
     const std::uint64_t model_id = b.model_id;
     b.exits.fetch_add(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
-    fill_correction(move, y, s, model_id, out);
-    return s;
+    return fill_correction(move, y, s, model_id, out);
   }
 
  private:

@@ -35,21 +35,31 @@ constexpr typename Model::RawInput model_input(const MoveRequest& move) noexcept
   }
 }
 
-/// Writes the Correction of `move` from the model's outputs `y` (MPE, RPE, MAE, RAE) computed
-/// with status `s` (ok) by the model `model_id`: correction_um = RAE·d. RT-safe.
-inline void fill_correction(const MoveRequest& move,
-                            const std::array<double, kModelOutputs>& y,
-                            Status s,
-                            std::uint64_t model_id,
-                            Correction& out) noexcept {
+/// Writes the Correction of `move` from the model's outputs `y` (MPE, RPE, MAE, RAE, finite)
+/// computed with status `s` (ok) by the model `model_id`: correction_um = RAE·d, and returns `s`.
+/// RAE·d can overflow although RAE is finite (|d| may exceed 1 by kDirectionTolerance): then it
+/// returns kInvalidInput and leaves `out` untouched, so a correction is never infinite. RT-safe.
+[[nodiscard]] inline Status fill_correction(const MoveRequest& move,
+                                            const std::array<double, kModelOutputs>& y,
+                                            Status s,
+                                            std::uint64_t model_id,
+                                            Correction& out) noexcept {
+  std::array<double, 3> correction{};
+  bool finite = true;
+  for (std::size_t k = 0; k < 3; ++k) {
+    correction[k] = y[3] * move.direction[k];
+    finite &= (correction[k] - correction[k]) == 0.0;  // false for ±inf (and NaN)
+  }
+  if (!finite) return Status::kInvalidInput;
   out.mpe_um = y[0];
   out.rpe_um = y[1];
   out.mae_um = y[2];
   out.rae_um = y[3];
-  for (std::size_t k = 0; k < 3; ++k) out.correction_um[k] = y[3] * move.direction[k];
+  out.correction_um = correction;
   out.flags = flags_for(s);
   out.sequence = move.sequence;
   out.model_id = model_id;
+  return s;
 }
 
 }  // namespace cmmcomp::compensation

@@ -157,8 +157,7 @@ class StaticMoveCompensator {
     const std::uint64_t model_id = b.model_id;
     b.readers.fetch_sub(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
-    fill_correction(move, y, s, model_id, out);
-    return s;
+    return fill_correction(move, y, s, model_id, out);
   }
 
  private:
