@@ -13,6 +13,7 @@ packages=(
   clang-format
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
   g++-aarch64-linux-gnu qemu-user
+  clang libclang-rt-14-dev libomp-14-dev
 )
 
 missing=()

@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: MIT
 # README command 2 (and all of CI): install what is missing, then build and run every test:
 # the release build with warnings as errors (all ctest labels), the ASan+UBSan build of the
-# tests, the firmware builds (Cortex-M7 under qemu-system-arm, aarch64 under qemu-aarch64) and
-# the clang-format check.
+# tests, the firmware builds (Cortex-M7 under qemu-system-arm, aarch64 under qemu-aarch64), the
+# libFuzzer smoke and the clang-format check.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
@@ -12,27 +12,27 @@ start=$(date +%s)
 
 bash scripts/install-deps.sh
 
-echo "== release build, all tests =="
-cmake --preset release
-cmake --build --preset release -j "$jobs"
-ctest --preset release -j "$jobs"
+# stage TITLE PRESET [CTEST ARGS...]: configure, build and test one preset, timing it.
+stage() {
+  local title="$1" preset="$2"
+  shift 2
+  local t0
+  t0=$(date +%s)
+  echo "== $title =="
+  cmake --preset "$preset"
+  cmake --build --preset "$preset" -j "$jobs"
+  ctest --preset "$preset" "$@"
+  echo "== $title: $(( $(date +%s) - t0 )) s =="
+}
 
-echo "== ASan + UBSan build, all tests =="
-cmake --preset asan
-cmake --build --preset asan -j "$jobs"
+stage "release build, all tests" release -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --preset asan -j "$jobs"
-
-echo "== Cortex-M7 firmware (qemu-system-arm -M mps2-an500): example, golden vectors, hot swap, figures =="
-cmake --preset fw-cortex-m7
-cmake --build --preset fw-cortex-m7 -j "$jobs"
-ctest --preset fw-cortex-m7 -j "$jobs"
+  stage "ASan + UBSan build, all tests" asan -j "$jobs"
+stage "Cortex-M7 firmware (qemu-system-arm -M mps2-an500)" fw-cortex-m7 -j "$jobs"
 bash scripts/firmware-figures.sh
-
-echo "== aarch64 Linux (qemu-aarch64): the core's unit tests and golden vectors =="
-cmake --preset aarch64
-cmake --build --preset aarch64 -j "$jobs"
-ctest --preset aarch64 -j "$jobs"
+stage "aarch64 Linux (qemu-aarch64): the core's unit tests and golden vectors" aarch64 -j "$jobs"
+# One target at a time: each fuzzes for CMMCOMP_FUZZ_SECONDS.
+stage "libFuzzer smoke: every target on its committed corpus" fuzz
 
 echo "== format check =="
 bash scripts/check-format.sh
