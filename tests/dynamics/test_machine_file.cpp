@@ -241,6 +241,87 @@ TEST(MachineFile, TomlSyntaxErrorNamesFileAndLine) {
   EXPECT_TRUE(contains(msg, "syntax")) << msg;
 }
 
+// Issue 16 D9: Debian's toml++ 3.3.0 asserts or reaches `unreachable` on some malformed inputs,
+// so the text is checked against the machine-file subset (docs/machine-file.md, "Syntax")
+// before toml++ sees it. Each input here used to reach toml++; each must now be refused by
+// the subset check, with the line and the column.
+TEST(MachineFile, TextOutsideTheSubsetIsRefusedBeforeTomlSeesIt) {
+  const std::string head = "format_version = 2\n";
+  const struct {
+    std::string text;
+    std::string where;  // "line:column:"
+    std::string what;
+  } cases[] = {
+      {head + "[#", "2:2:", "expected a section name"},
+      {head + "3=1979-05-27T:", "2:3:", "'1979-05-27T' is not a value here"},
+      {head + "\xc3\xa9", "2:1:", "byte 0xC3: only strings and comments"},
+      {head + "# \xe2\x82", "2:3:", "incomplete UTF-8 character"},
+      {head + "name = \"\xc0\xaf\"", "2:9:", "does not start a UTF-8 character"},
+      {head + "name = \"\xed\xa0\x80\"", "2:9:", "invalid UTF-8 character U+D800"},
+      {head + std::string("name = \"a\0b\"", 12), "2:10:", "control character 0x00"},
+      {head + "name = \"a\x1b[2Jb\"", "2:10:", "control character 0x1B"},
+      {head + "name = \"a\\q\"", "2:11:", "unknown escape"},
+      {head + "name = \"a\\u01\"", "2:11:", "\\u needs 4 hexadecimal digits"},
+      {head + "name = \"open", "2:13:", "a string must end on its line"},
+      {head + "x = [1, 2]", "2:5:", "key 'x': '[' is not a value here"},
+      {head + "x = {a = 1}", "2:5:", "'{' is not a value here"},
+      {head + "x = 0x1F", "2:5:", "'0x1F' is not a value here"},
+      {head + "x = 1__0", "2:5:", "'1__0' is not a value here"},
+      {head + "x = 1.", "2:5:", "'1.' is not a value here"},
+      {head + "[a.b]", "2:3:", "expected ']' after the section name"},
+      {head + "[[a]]", "2:2:", "expected a section name"},
+      {head + "a.b = 1", "2:2:", "key 'a': expected '=' after the key"},
+      {head + "x = 1 y", "2:7:", "unexpected 'y'"},
+      {head + "x = 1\rx", "2:6:", "a carriage return must end a line"},
+      {head + "\tx\v= 1", "2:3:", "control character 0x0B"},
+  };
+  for (const auto& c : cases) {
+    const std::string msg = error_of(c.text);
+    EXPECT_TRUE(contains(msg, std::string(kSource) + ":" + c.where)) << c.what << ": " << msg;
+    EXPECT_TRUE(contains(msg, c.what)) << msg;
+    EXPECT_TRUE(contains(msg, "'Syntax'")) << msg;
+  }
+}
+
+// Issue 16 D13: escapes can still spell control characters; a name gets none, a description
+// tabs and line breaks only.
+TEST(MachineFile, NamesAndDescriptionsRefuseControlCharacters) {
+  for (const char* escape : {"\\u0000", "\\u001B", "\\t", "\\u007F"}) {
+    Machine m = default_machine();
+    std::string text = format_machine(m);
+    const std::string name = "name = " + std::string("\"") + m.name + "\"";
+    ASSERT_TRUE(contains(text, name)) << text.substr(0, 200);
+    text.replace(text.find(name), name.size(), "name = \"x" + std::string(escape) + "y\"");
+    EXPECT_TRUE(contains(error_of(text), "'name' holds the control character")) << escape;
+  }
+  Machine m = default_machine();
+  m.description = "a\tb\nc";
+  EXPECT_EQ(parse_machine(format_machine(m), kSource).description, m.description);
+  m.description = std::string("a\x1b[31mred");
+  EXPECT_TRUE(
+      contains(error_of(format_machine(m)), "'description' holds the control character 0x1B"));
+}
+
+// What the subset keeps: comments and strings in UTF-8, CRLF line ends, every escape the
+// writer uses, signed and underscored numbers, inf and nan (refused later as not physical).
+TEST(MachineFile, TheSubsetKeepsEverythingTheWriterAndAUserWrite) {
+  Machine m = default_machine();
+  m.name = "bridge \"B\" \\ 2";
+  m.description = "µm, ζ = 0.05, tab\tand\nnewline";
+  std::string text = format_machine(m);
+  text.insert(0, "# Prüfstand 3 — X axis\r\n");
+  EXPECT_EQ(parse_machine(text, kSource).description, m.description);
+  const Info& info = machine_parameter_table().front();
+  for (const char* v : {"+30", "3_0", "30.000_1", "3e1", "3.0E+1", "300e-1"}) {
+    int line = 0;
+    EXPECT_EQ(error_of(with_value(info, v, &line)), "no error") << v;
+  }
+  for (const char* v : {"inf", "-nan"}) {
+    int line = 0;
+    EXPECT_TRUE(contains(error_of(with_value(info, v, &line)), "is not physical")) << v;
+  }
+}
+
 TEST(MachineFile, DuplicateKeyIsASyntaxErrorAtTheSecondOccurrence) {
   std::vector<std::string> lines = split_lines(format_machine(default_machine()));
   const Info& info = machine_parameter_table().back();

@@ -71,7 +71,8 @@ TEST(ModbusTranscript, MalformedLinesNameFileLineAndProblem) {
             "s.mbtx:1: the first line must be '# cmmcomp modbus transcript 1'");
   EXPECT_EQ(
       error_of([&] { transcript(head + "# x\n1795396532.84241 tx 00 01 00 00 00 02 01 03\n"); }),
-      "s.mbtx:3: timestamp '1795396532.84241' is not SECONDS.MICROS (6 digits after the point)");
+      "s.mbtx:3: timestamp '1795396532.84241' is not SECONDS.MICROS (6 digits after the point, at "
+      "most 9223372036.854775)");
   EXPECT_EQ(error_of([&] { transcript(head + "1.000000 up 00 01 00 00 00 02 01 03\n"); }),
             "s.mbtx:2: direction 'up' is neither tx nor rx");
   EXPECT_EQ(error_of([&] { transcript(head + "1.000000 tx 00 01 00 00 00 02 01 0A\n"); }),
@@ -85,6 +86,22 @@ TEST(ModbusTranscript, MalformedLinesNameFileLineAndProblem) {
             "s.mbtx:2: expected 'SECONDS.MICROS tx|rx XX XX …', got '1.000000 tx'");
   EXPECT_EQ(error_of([&] { transcript(head + "1.000000 tx  00 01 00 00 00 02 01 03\n"); }),
             "s.mbtx:2: byte 0 '' is not two lower-case hex digits");
+}
+
+// Issue 16 D8: a time that int64 nanoseconds cannot hold used to overflow in replay (a false
+// timeout reject); the parsers refuse it, and accept the last representable microsecond.
+TEST(Recordings, RefuseTimesBeyondTheNanosecondRange) {
+  const std::string head = "# cmmcomp modbus transcript 1\n";
+  const std::string adu = " tx 00 01 00 00 00 02 01 03\n";
+  EXPECT_EQ(transcript(head + "9223372036.854775" + adu).messages.at(0).time_us, 9223372036854775);
+  EXPECT_EQ(error_of([&] { transcript(head + "9223372036.854776" + adu); }),
+            "s.mbtx:2: timestamp '9223372036.854776' is not SECONDS.MICROS (6 digits after the "
+            "point, at most 9223372036.854775)");
+  EXPECT_EQ(error_of([&] { transcript(head + "99999999999.000000" + adu); }),
+            "s.mbtx:2: timestamp '99999999999.000000' is not SECONDS.MICROS (6 digits after the "
+            "point, at most 9223372036.854775)");
+  EXPECT_EQ(candump("(9223372036.854775) vcan0 300#00\n").messages.at(0).time_us, 9223372036854775);
+  EXPECT_NE(error_of([] { candump("(9999999999.000000) vcan0 300#00\n"); }), "");
 }
 
 TEST(CandumpLog, ReadsFramesAndSkipsComments) {
@@ -121,7 +138,8 @@ TEST(CandumpLog, MalformedLinesNameFileLineAndProblem) {
   EXPECT_EQ(error_of([&] { candump(good + "(1.000000) vcan0 300#R\n"); }),
             "s.log:2: remote or CAN FD frame '300#R': the protocol uses classic data frames");
   EXPECT_EQ(error_of([&] { candump(good + "(1.0) vcan0 300#00\n"); }),
-            "s.log:2: timestamp '(1.0)' is not (SECONDS.MICROS) with 6 digits after the point");
+            "s.log:2: timestamp '(1.0)' is not (SECONDS.MICROS) with 6 digits after the point, at "
+            "most 9223372036.854775");
   EXPECT_EQ(error_of([&] { candump(good + "(1.000000) vcan0\n"); }),
             "s.log:2: expected '(SECONDS.MICROS) IFACE ID#DATA', got '(1.000000) vcan0'");
   EXPECT_EQ(error_of([&] { candump(good + "(1.000000) vcan0 300#ZZ\n"); }),

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <limits>
 
 namespace cmmcomp::replay {
 
@@ -22,16 +23,22 @@ int hex_digit(char c, bool upper) {
   return -1;
 }
 
-/// "SECONDS.MICROS" with exactly six digits of microseconds, in µs; false if malformed.
+/// The latest time a recording may carry [µs]: replay hands times to the handlers in int64 ns,
+/// which end at 9 223 372 036.854775807 s (year 2262).
+constexpr std::int64_t kLatestTimeUs = std::numeric_limits<std::int64_t>::max() / 1000;
+
+/// "SECONDS.MICROS" with exactly six digits of microseconds, in µs, at most kLatestTimeUs;
+/// false if malformed or later.
 bool parse_timestamp(const std::string& text, std::int64_t& us) {
   const std::size_t dot = text.find('.');
-  if (dot == std::string::npos || dot == 0 || dot > 12 || text.size() != dot + 7) return false;
+  if (dot == std::string::npos || dot == 0 || dot > 10 || text.size() != dot + 7) return false;
   std::int64_t v = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
     if (i == dot) continue;
     if (text[i] < '0' || text[i] > '9') return false;
     v = v * 10 + (text[i] - '0');
   }
+  if (v > kLatestTimeUs) return false;
   us = v;
   return true;
 }
@@ -104,7 +111,8 @@ Recording parse_modbus_transcript(std::istream& in, const std::string& source) {
     if (!parse_timestamp(parts[0], m.time_us)) {
       fail(source,
            n,
-           "timestamp '" + parts[0] + "' is not SECONDS.MICROS (6 digits after the point)");
+           "timestamp '" + parts[0] +
+               "' is not SECONDS.MICROS (6 digits after the point, at most 9223372036.854775)");
     }
     if (parts[1] != "tx" && parts[1] != "rx") {
       fail(source, n, "direction '" + parts[1] + "' is neither tx nor rx");
@@ -164,9 +172,11 @@ Recording parse_candump_log(std::istream& in, const std::string& source) {
     const std::string& ts = parts[0];
     if (ts.size() < 3 || ts.front() != '(' || ts.back() != ')' ||
         !parse_timestamp(ts.substr(1, ts.size() - 2), m.time_us)) {
-      fail(source,
-           n,
-           "timestamp '" + ts + "' is not (SECONDS.MICROS) with 6 digits after the point");
+      fail(
+          source,
+          n,
+          "timestamp '" + ts +
+              "' is not (SECONDS.MICROS) with 6 digits after the point, at most 9223372036.854775");
     }
     if (parts[1].empty()) fail(source, n, "the interface is empty");
     m.interface = parts[1];

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmmcomp/plugins/can_request_handler.hpp>
+#include <limits>
 #include <vector>
 
 #include "can_test_frames.hpp"
@@ -167,6 +168,21 @@ TEST_F(RequestHandlerTest, LatePartExpiresTheRequestEvenWithoutATick) {
   EXPECT_EQ(reject_of(out, 0).reason, RejectReason::kTimeout);
   EXPECT_EQ(reject_of(out, 0).part, 2);
   EXPECT_EQ(reject_of(out, 1).reason, RejectReason::kMissingPart);
+}
+
+// Issue 16 D8: near the end of int64 the deadline used to wrap into the past, so a request on
+// time was rejected as timed out (and the addition was undefined behaviour).
+TEST_F(RequestHandlerTest, ClockNearTheEndOfInt64StillAnswers) {
+  const RequestFrames f = request(32);
+  const std::int64_t end = std::numeric_limits<std::int64_t>::max();
+  FrameBatch out;
+  handler_.on_frame(f[0], end - 3, out);
+  handler_.on_frame(f[1], end - 2, out);
+  EXPECT_EQ(out.size, 0u);
+  EXPECT_EQ(handler_.deadline_ns(), end);  // saturated
+  handler_.on_frame(f[2], end - 1, out);
+  EXPECT_TRUE(is_response({out.frames.begin(), out.frames.begin() + 3}, 32));
+  EXPECT_EQ(handler_.counters().timeouts, 0u);
 }
 
 TEST_F(RequestHandlerTest, NewRequestSupersedesAnIncompleteOne) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @file ModbusTcpAduResponder: serve_one_frame over a socket pair.
+/// @file ModbusTcpAduResponder: the server's framing check and AduLoopback, one ADU at a time.
 #include <fcntl.h>
 #include <modbus.h>
 #include <sys/socket.h>
@@ -16,20 +16,6 @@
 
 namespace cmmcomp::plugins {
 
-namespace {
-
-/// Reads everything queued on non-blocking `fd` (appending to `out` when given).
-void drain(int fd, std::vector<std::uint8_t>* out) {
-  std::array<std::uint8_t, 512> buffer{};
-  while (true) {
-    const ssize_t n = ::recv(fd, buffer.data(), buffer.size(), MSG_DONTWAIT);
-    if (n <= 0) return;
-    if (out != nullptr) out->insert(out->end(), buffer.begin(), buffer.begin() + n);
-  }
-}
-
-}  // namespace
-
 struct ModbusTcpAduResponder::Impl {
   Impl(const compensation::MoveCompensator& compensator, std::uint8_t unit_id)
       : handler(compensator, unit_id, ModbusTransport::kTcp) {
@@ -37,53 +23,45 @@ struct ModbusTcpAduResponder::Impl {
     mapping.nb_registers = modbus_map::kHoldingCount;
     mapping.tab_input_registers = handler.input().data();
     mapping.nb_input_registers = modbus_map::kInputCount;
-    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds.data()) != 0) {
-      throw Error(std::string("Modbus responder: socketpair failed: ") + std::strerror(errno));
-    }
     // Never connected: only the framing, the reply builder and the socket slot are used.
     ctx = modbus_new_tcp("127.0.0.1", 502);
     if (ctx == nullptr) {
       throw Error(std::string("Modbus responder: cannot create the context: ") +
                   modbus_strerror(errno));
     }
-    // The whole request is queued before libmodbus reads it: a short timeout only bounds a
-    // request shorter than its function code says.
-    modbus_set_indication_timeout(ctx, 0, 100000);
-    modbus_set_byte_timeout(ctx, 0, 100000);
+    detail::set_loopback_timeouts(ctx);
     handler.note_client_connected();  // as the server counts the one connection of a session
   }
 
   ~Impl() {
     if (ctx != nullptr) {
-      modbus_set_socket(ctx, -1);  // the pair is closed below, not by libmodbus
+      modbus_set_socket(ctx, -1);  // the loopback's sockets are closed by it, not by libmodbus
       modbus_free(ctx);
-    }
-    for (int fd : fds) {
-      if (fd >= 0) ::close(fd);
     }
   }
 
   Answer respond(const std::uint8_t* adu, std::size_t size) {
     Answer a;
-    if (size > MODBUS_TCP_MAX_ADU_LENGTH) {
+    // The server frames a TCP stream with judge_mbap before libmodbus sees it: a request it
+    // would drop the connection for is a receive error here.
+    const detail::MbapVerdict v = detail::judge_mbap(adu, size);
+    if (v.kind != detail::MbapVerdict::Kind::kComplete || v.adu_length != size) {
+      handler.note_receive_error();
       a.kind = Answer::Kind::kReceiveError;
       return a;
     }
-    if (::send(fds[1], adu, size, MSG_NOSIGNAL) != static_cast<ssize_t>(size)) {
-      throw Error(std::string("Modbus responder: send failed: ") + std::strerror(errno));
-    }
+    std::array<std::uint8_t, detail::kMaxTcpAduLength> reply{};
+    std::size_t reply_size = 0;
     const detail::FrameOutcome o =
-        detail::serve_one_frame(ctx, fds[0], handler, mapping, query.data());
-    drain(fds[0], nullptr);  // what libmodbus left of the request
-    drain(fds[1], &a.adu);
+        loopback.serve(ctx, handler, mapping, query.data(), adu, size, reply, reply_size);
     switch (o) {
       case detail::FrameOutcome::kAnswered:
         a.kind = Answer::Kind::kAnswered;
+        a.adu.assign(reply.begin(), reply.begin() + static_cast<std::ptrdiff_t>(reply_size));
         break;
       case detail::FrameOutcome::kReceiveError:
       case detail::FrameOutcome::kSendError:
         a.kind = Answer::Kind::kReceiveError;
-        a.adu.clear();
         break;
       case detail::FrameOutcome::kSilent:
       case detail::FrameOutcome::kIgnored:
@@ -96,7 +74,7 @@ struct ModbusTcpAduResponder::Impl {
   ModbusRequestHandler handler;
   modbus_mapping_t mapping{};
   modbus_t* ctx = nullptr;
-  std::array<int, 2> fds{-1, -1};  // [0] the server's end, [1] the client's
+  detail::AduLoopback loopback;
   std::array<std::uint8_t, MODBUS_MAX_ADU_LENGTH> query{};
 };
 

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/plugins/modbus_server.hpp>
 #include <cstring>
@@ -132,12 +133,33 @@ bool ModbusServerOptions::is_valid(std::string* why) const {
   if (poll_interval_ms < 1 || poll_interval_ms > 1000) {
     return fail("poll_interval_ms must be 1..1000");
   }
+  if (frame_timeout_ms < byte_timeout_ms || frame_timeout_ms > 60000) {
+    return fail("frame_timeout_ms must be byte_timeout_ms..60000");
+  }
+  if (idle_timeout_ms < 0 || idle_timeout_ms > 86400000) {
+    return fail("idle_timeout_ms must be 0 (never)..86400000");
+  }
+  if (evict_idle_ms < 0 || evict_idle_ms > 86400000) {
+    return fail("evict_idle_ms must be 0..86400000");
+  }
   return true;
 }
 
 // ---- server
 
 struct ModbusServer::Impl {
+  using Clock = std::chrono::steady_clock;
+
+  /// One Modbus TCP connection: the frame it is sending, assembled without blocking.
+  struct Client {
+    int fd = -1;
+    std::array<std::uint8_t, detail::kMaxTcpAduLength> frame{};
+    std::size_t have = 0;            // bytes of the current frame so far
+    Clock::time_point frame_start;   // its first byte
+    Clock::time_point last_byte;     // its latest byte
+    Clock::time_point last_request;  // the last complete request (or the connection)
+  };
+
   Impl(const compensation::MoveCompensator& compensator,
        const ModbusEndpoint& ep,
        const ModbusServerOptions& opts)
@@ -159,7 +181,7 @@ struct ModbusServer::Impl {
       if (!tcp()) modbus_close(ctx);
       modbus_free(ctx);
     }
-    for (int fd : clients) ::close(fd);
+    for (const Client& c : clients) ::close(c.fd);
     if (listen_fd >= 0) ::close(listen_fd);
   }
 
@@ -184,7 +206,11 @@ struct ModbusServer::Impl {
       listen_fd = modbus_tcp_pi_listen(ctx, options.max_tcp_clients);
       if (listen_fd < 0) throw Error(name + ": cannot listen: " + errno_text(errno));
       ::fcntl(listen_fd, F_SETFD, FD_CLOEXEC);
+      ::fcntl(listen_fd, F_SETFL, ::fcntl(listen_fd, F_GETFL) | O_NONBLOCK);
       clients.reserve(static_cast<std::size_t>(options.max_tcp_clients));
+      // Frames are assembled here; libmodbus reads each complete one from the loopback.
+      loopback = std::make_unique<detail::AduLoopback>();
+      detail::set_loopback_timeouts(ctx);
     } else {
       ctx = modbus_new_rtu(endpoint.device.c_str(),
                            endpoint.baud,
@@ -196,10 +222,10 @@ struct ModbusServer::Impl {
         throw Error(name + ": cannot open " + endpoint.device + ": " + errno_text(errno));
       }
       serial_fd = modbus_get_socket(ctx);
+      const auto us = static_cast<std::uint32_t>(options.byte_timeout_ms) * 1000u;
+      modbus_set_byte_timeout(ctx, us / 1000000u, us % 1000000u);
+      modbus_set_indication_timeout(ctx, us / 1000000u, us % 1000000u);
     }
-    const auto us = static_cast<std::uint32_t>(options.byte_timeout_ms) * 1000u;
-    modbus_set_byte_timeout(ctx, us / 1000000u, us % 1000000u);
-    modbus_set_indication_timeout(ctx, us / 1000000u, us % 1000000u);
     fds.reserve(static_cast<std::size_t>(options.max_tcp_clients) + 1);
   }
 
@@ -208,7 +234,7 @@ struct ModbusServer::Impl {
       fds.clear();  // capacity reserved in open(): no allocation here
       if (tcp()) {
         fds.push_back({listen_fd, POLLIN, 0});
-        for (int fd : clients) fds.push_back({fd, POLLIN, 0});
+        for (const Client& c : clients) fds.push_back({c.fd, POLLIN, 0});
       } else {
         fds.push_back({serial_fd, POLLIN, 0});
       }
@@ -217,72 +243,134 @@ struct ModbusServer::Impl {
         if (errno == EINTR) continue;
         throw Error(where() + ": poll failed: " + errno_text(errno));
       }
-      if (n == 0) continue;
       if (!tcp()) {
+        if (n == 0) continue;
         if ((fds[0].revents & POLLIN) != 0) {
-          serve_frame(serial_fd);
+          serve_serial_frame();
         } else if ((fds[0].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
           throw Error(where() + ": the serial device hung up or failed");
         }
         continue;
       }
-      // Clients first (their indexes in `fds` match `clients` before accept changes it).
+      // Clients first (their indexes in `fds` match `clients` before accept or a drop changes
+      // it; a drop moves the last client into the slot, which this backward walk has seen).
+      // Each client gets at most one frame's work per round, so none can hold the others.
+      const Clock::time_point now = Clock::now();
       for (std::size_t i = fds.size(); i-- > 1;) {
-        if (fds[i].revents == 0) continue;
-        if (!serve_client(fds[i].fd)) drop_client(i - 1);
+        const bool keep = fds[i].revents != 0 ? serve_client(clients[i - 1], now)
+                                              : within_timeouts(clients[i - 1], now);
+        if (!keep) drop_client(i - 1);
       }
-      if ((fds[0].revents & POLLIN) != 0) accept_client();
+      if ((fds[0].revents & POLLIN) != 0) accept_client(now);
     }
   }
 
-  void accept_client() {
-    const int fd = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC);
+  static long long ms_between(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(b - a).count();
+  }
+
+  /// False when the client's frame has stalled or trickled too long, or it has been idle too
+  /// long (docs/protocol-modbus.md, "Connections and timeouts").
+  bool within_timeouts(const Client& c, Clock::time_point now) {
+    if (c.have > 0 && (ms_between(c.last_byte, now) > options.byte_timeout_ms ||
+                       ms_between(c.frame_start, now) > options.frame_timeout_ms)) {
+      handler.note_receive_error();
+      return false;
+    }
+    if (c.have == 0 && options.idle_timeout_ms > 0 &&
+        ms_between(c.last_request, now) > options.idle_timeout_ms) {
+      handler.note_client_idle_closed();
+      return false;
+    }
+    return true;
+  }
+
+  void accept_client(Clock::time_point now) {
+    const int fd = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
     if (fd < 0) return;  // the peer gave up already, or out of descriptors: try again later
     if (clients.size() >= static_cast<std::size_t>(options.max_tcp_clients)) {
-      ::close(fd);
-      handler.note_client_refused();
-      return;
+      // Full: the connection idle longest gives way, if it has been idle evict_idle_ms.
+      std::size_t oldest = 0;
+      for (std::size_t i = 1; i < clients.size(); ++i) {
+        if (clients[i].last_request < clients[oldest].last_request) oldest = i;
+      }
+      if (clients[oldest].have > 0 ||
+          ms_between(clients[oldest].last_request, now) < options.evict_idle_ms) {
+        ::close(fd);
+        handler.note_client_refused();
+        return;
+      }
+      handler.note_client_evicted();
+      drop_client(oldest);
     }
     const int one = 1;
     ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    clients.push_back(fd);
+    Client c;
+    c.fd = fd;
+    c.last_request = now;
+    clients.push_back(c);  // capacity reserved in open()
     handler.note_client_connected();
   }
 
   void drop_client(std::size_t index) {
-    ::close(clients[index]);
+    ::close(clients[index].fd);
     clients[index] = clients.back();
     clients.pop_back();
     handler.note_client_closed();
   }
 
-  /// Serves what is readable on a client socket; false when the client must be dropped.
-  bool serve_client(int fd) {
-    // A peer that closed between frames is a normal end, not a receive error.
-    std::uint8_t probe = 0;
-    const ssize_t peek = ::recv(fd, &probe, 1, MSG_PEEK | MSG_DONTWAIT);
-    if (peek == 0) return false;
-    if (peek < 0) {
-      if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return true;
+  /// Reads what the client sent, up to the end of its current frame, and answers the frame
+  /// when it is complete; false when the client must be dropped.
+  bool serve_client(Client& c, Clock::time_point now) {
+    // Read only up to the end of the current frame: the next one stays in the socket for the
+    // next round. Before the header is complete, read up to the header.
+    const detail::MbapVerdict before = detail::judge_mbap(c.frame.data(), c.have);
+    const std::size_t want =
+        c.have < detail::kMbapHeaderLength ? detail::kMbapHeaderLength : before.adu_length;
+    const ssize_t got = ::recv(c.fd, c.frame.data() + c.have, want - c.have, MSG_DONTWAIT);
+    if (got == 0) {  // the peer closed: normal between frames, a lost frame inside one
+      if (c.have > 0) handler.note_receive_error();
+      return false;
+    }
+    if (got < 0) {
+      if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return within_timeouts(c, now);
+      if (c.have > 0) handler.note_receive_error();
       return false;  // reset by the peer
     }
-    return serve_frame(fd);
-  }
-
-  /// Receives one frame on `fd` and answers it; false when the connection is unusable.
-  bool serve_frame(int fd) {
-    switch (detail::serve_one_frame(ctx, fd, handler, mapping, query.data())) {
-      case detail::FrameOutcome::kReceiveError:
-        if (!tcp()) modbus_flush(ctx);
-        return !tcp();
-      case detail::FrameOutcome::kSendError:
-        return !tcp();
-      case detail::FrameOutcome::kAnswered:
-      case detail::FrameOutcome::kSilent:
-      case detail::FrameOutcome::kIgnored:
-        break;
+    if (c.have == 0) c.frame_start = now;
+    c.have += static_cast<std::size_t>(got);
+    c.last_byte = now;
+    const detail::MbapVerdict v = detail::judge_mbap(c.frame.data(), c.have);
+    if (v.kind == detail::MbapVerdict::Kind::kInvalid) {
+      handler.note_receive_error();
+      return false;  // a TCP stream cannot be resynchronised
+    }
+    if (v.kind == detail::MbapVerdict::Kind::kNeedMore) return within_timeouts(c, now);
+    c.have = 0;
+    c.last_request = now;
+    std::size_t reply_size = 0;
+    const detail::FrameOutcome o = loopback->serve(
+        ctx, handler, mapping, query.data(), c.frame.data(), v.adu_length, reply, reply_size);
+    if (o == detail::FrameOutcome::kReceiveError || o == detail::FrameOutcome::kSendError) {
+      return false;
+    }
+    if (reply_size == 0) return true;
+    // An answer is at most 260 bytes; a client whose socket buffer cannot take it is not
+    // reading its answers, and waiting for it would hold the others.
+    const ssize_t sent = ::send(c.fd, reply.data(), reply_size, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (sent != static_cast<ssize_t>(reply_size)) {
+      if (o == detail::FrameOutcome::kAnswered) handler.note_reply_failed();
+      return false;
     }
     return true;
+  }
+
+  /// RTU: libmodbus receives one frame from the line (bounded by the byte timeout) and answers.
+  void serve_serial_frame() {
+    if (detail::serve_one_frame(ctx, serial_fd, handler, mapping, query.data()) ==
+        detail::FrameOutcome::kReceiveError) {
+      modbus_flush(ctx);
+    }
   }
 
   ModbusEndpoint endpoint;
@@ -292,9 +380,11 @@ struct ModbusServer::Impl {
   modbus_t* ctx = nullptr;
   int listen_fd = -1;
   int serial_fd = -1;
-  std::vector<int> clients;
+  std::vector<Client> clients;
   std::vector<pollfd> fds;
+  std::unique_ptr<detail::AduLoopback> loopback;
   std::array<std::uint8_t, MODBUS_MAX_ADU_LENGTH> query{};
+  std::array<std::uint8_t, detail::kMaxTcpAduLength> reply{};
 };
 
 ModbusServer::ModbusServer(const compensation::MoveCompensator& compensator,

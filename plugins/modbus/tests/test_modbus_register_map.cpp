@@ -248,6 +248,18 @@ TEST(ModbusServerOptions, Validation) {
   o = {};
   o.max_tcp_clients = 0;
   EXPECT_FALSE(o.is_valid(&why));
+  o = {};
+  o.frame_timeout_ms = o.byte_timeout_ms - 1;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_EQ(why, "frame_timeout_ms must be byte_timeout_ms..60000");
+  o = {};
+  o.idle_timeout_ms = -1;
+  EXPECT_FALSE(o.is_valid(&why));
+  o.idle_timeout_ms = 0;  // never
+  EXPECT_TRUE(o.is_valid(&why));
+  o.evict_idle_ms = -1;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_EQ(why, "evict_idle_ms must be 0..86400000");
 }
 
 // ---- the document

@@ -113,6 +113,16 @@ TEST_F(ModbusRequestHandlerTest, IllegalAddressIsException02) {
   EXPECT_EQ(handler_.counters().rejected, 0u);
 }
 
+// Issue 16 D11: an exception answer to 0x90 used to wrap to 0x10, a normal FC16 answer.
+TEST_F(ModbusRequestHandlerTest, FunctionCodesFrom0x80AreNotAnswered) {
+  for (int fc = 0x80; fc <= 0xFF; ++fc) {
+    const std::vector<std::uint8_t> pdu = {static_cast<std::uint8_t>(fc), 0, 0, 0, 1};
+    EXPECT_EQ(send(pdu).kind, Kind::kSilent) << fc;
+  }
+  EXPECT_EQ(handler_.counters().exceptions, 0u);
+  EXPECT_EQ(send(pdu_read(0x7F, 0, 1)).exception, kIllegalFunction);  // the last code answered
+}
+
 TEST_F(ModbusRequestHandlerTest, BadQuantityIsException03) {
   EXPECT_EQ(send(pdu_read(kReadInputRegisters, 0, 0)).exception, kIllegalDataValue);
   EXPECT_EQ(send(pdu_read(kReadInputRegisters, 0, 126)).exception, kIllegalDataValue);

@@ -262,6 +262,7 @@ TEST_F(ModbusServerTest, ClientDroppingMidFrameDoesNotDisturbOthers) {
 TEST_F(ModbusServerTest, ClientsBeyondTheLimitAreClosed) {
   ModbusServerOptions options;
   options.max_tcp_clients = 2;
+  options.evict_idle_ms = 600000;  // never replace a or b, however slow this machine is
   test::LoopbackServer server(comp_, options);
   test::Client a = test::connect_client(server.port());
   test::Client b = test::connect_client(server.port());
@@ -296,6 +297,180 @@ TEST_F(ModbusServerTest, StopIsNoticedQuickly) {
       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
           .count();
   EXPECT_LT(ms, 200);  // poll interval 50 ms; slack for a loaded 2-core machine
+}
+
+// ---- hostile TCP clients (issue 16 D2, D3, D10): frames are assembled per client without
+// blocking, so no client can hold the others; timeouts and eviction free the slots.
+
+/// Waits (bounded, never on luck) until `done(counters)` holds; false after 20 s.
+template <class Done>
+bool wait_for_counters(ModbusServer& server, Done done) {
+  for (int i = 0; i < 2000; ++i) {
+    if (done(server.counters())) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+/// Blocks until the server closes `fd` (recv returns 0; answers before it are skipped), at
+/// most `seconds`. True when it was closed.
+bool closed_by_server(int fd, int seconds) {
+  timeval tv{seconds, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  std::uint8_t b[300];
+  while (true) {
+    const ssize_t n = ::recv(fd, b, sizeof b, 0);
+    if (n == 0) return true;
+    if (n < 0) return errno == ECONNRESET;
+  }
+}
+
+/// Reads one answer ADU (header, then the length it announces) from `fd`, at most 5 s.
+std::vector<std::uint8_t> read_answer(int fd) {
+  timeval tv{5, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  std::vector<std::uint8_t> a(7);
+  if (::recv(fd, a.data(), 7, MSG_WAITALL) != 7) return {};
+  const std::size_t rest = ((std::size_t{a[4]} << 8) | a[5]) - 1;
+  a.resize(7 + rest);
+  if (::recv(fd, a.data() + 7, rest, MSG_WAITALL) != static_cast<ssize_t>(rest)) return {};
+  return a;
+}
+
+TEST_F(ModbusServerTest, SeventeenthClientReplacesTheConnectionIdleLongest) {
+  ModbusServerOptions options;
+  options.evict_idle_ms = 200;
+  test::LoopbackServer server(comp_, options);
+  std::vector<int> idle;
+  for (int i = 0; i < 16; ++i) {
+    idle.push_back(raw_connect(server.port()));
+    ASSERT_GE(idle.back(), 0);
+  }
+  ASSERT_TRUE(wait_for_counters(server.server(),
+                                [](const ModbusCounters& c) { return c.clients_active == 16; }));
+  // Not idle long enough yet: a newcomer is closed at once, the 16 stay.
+  const int early = raw_connect(server.port());
+  EXPECT_TRUE(closed_by_server(early, 5));
+  ::close(early);
+  EXPECT_EQ(server.server().counters().clients_refused, 1u);
+  // Once they have been idle evict_idle_ms, the 17th takes the place of the one idle longest.
+  std::this_thread::sleep_for(std::chrono::milliseconds(options.evict_idle_ms + 50));
+  test::Client good = test::connect_client(server.port());
+  map::Result r;
+  ASSERT_TRUE(test::transact(good.get(), test::example_request(), r)) << modbus_strerror(errno);
+  EXPECT_EQ(r.sequence, 7);
+  EXPECT_EQ(server.server().counters().clients_evicted, 1u);
+  EXPECT_TRUE(closed_by_server(idle.front(), 5));  // the first connected, idle longest
+  for (int fd : idle) ::close(fd);
+}
+
+TEST_F(ModbusServerTest, IdleConnectionsAreClosedAfterTheIdleTimeout) {
+  ModbusServerOptions options;
+  options.idle_timeout_ms = 200;
+  test::LoopbackServer server(comp_, options);
+  const int fd = raw_connect(server.port());
+  ASSERT_GE(fd, 0);
+  EXPECT_TRUE(closed_by_server(fd, 10));
+  ::close(fd);
+  EXPECT_EQ(server.server().counters().clients_idle_closed, 1u);
+}
+
+TEST_F(ModbusServerTest, TricklingClientHoldsNoOtherClient) {
+  ModbusServerOptions options;
+  options.byte_timeout_ms = 5000;  // a blocking per-frame receive would hold everyone this long
+  options.frame_timeout_ms = 8000;
+  test::LoopbackServer server(comp_, options);
+  const std::vector<std::uint8_t> read = test::hex(test::kExampleReadAdu);
+  const int slow = raw_connect(server.port());
+  ASSERT_GE(slow, 0);
+  ASSERT_EQ(::send(slow, read.data(), 3, MSG_NOSIGNAL), 3);
+  ASSERT_TRUE(wait_for_counters(server.server(),
+                                [](const ModbusCounters& c) { return c.clients_active == 1; }));
+  // While its frame is open, another client is served at once (its response timeout, 1 s, is
+  // far below the byte timeout the old server would have blocked for).
+  test::Client good = test::connect_client(server.port());
+  modbus_set_response_timeout(good.get(), 1, 0);
+  for (std::uint32_t i = 0; i < 20; ++i) {
+    compensation::MoveRequest m = test::example_request();
+    m.sequence = 100 + i;
+    map::Result r;
+    ASSERT_TRUE(test::transact(good.get(), m, r)) << i << ": " << modbus_strerror(errno);
+    EXPECT_EQ(r.sequence, 100 + i);
+  }
+  // The slow frame, finished, is answered like any other.
+  ASSERT_EQ(::send(slow, read.data() + 3, read.size() - 3, MSG_NOSIGNAL),
+            static_cast<ssize_t>(read.size() - 3));
+  const std::vector<std::uint8_t> answer = read_answer(slow);
+  ASSERT_EQ(answer.size(), 7u + 2u + 2u * 0x17u);
+  EXPECT_EQ(answer[7], 0x04);
+  ::close(slow);
+}
+
+TEST_F(ModbusServerTest, FrameTakingLongerThanTheFrameTimeoutIsDropped) {
+  ModbusServerOptions options;
+  options.byte_timeout_ms = 400;
+  options.frame_timeout_ms = 400;
+  test::LoopbackServer server(comp_, options);
+  const std::vector<std::uint8_t> read = test::hex(test::kExampleReadAdu);
+  const int slow = raw_connect(server.port());
+  ASSERT_GE(slow, 0);
+  // One byte every 100 ms: inside the byte timeout, but the frame needs 1.1 s.
+  bool closed = false;
+  for (std::size_t i = 0; i < read.size() && !closed; ++i) {
+    closed = ::send(slow, read.data() + i, 1, MSG_NOSIGNAL) != 1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(closed || closed_by_server(slow, 10));
+  ::close(slow);
+  EXPECT_TRUE(wait_for_counters(server.server(),
+                                [](const ModbusCounters& c) { return c.receive_errors >= 1; }));
+}
+
+TEST_F(ModbusServerTest, MalformedMbapHeadersCloseTheConnectionAndChangeNothing) {
+  test::LoopbackServer server(comp_);
+  test::Client good = test::connect_client(server.port());
+  // FC06 axis := 2, with a bad header each time.
+  const std::vector<std::vector<std::uint8_t>> bad = {
+      {0, 1, 0, 1, 0, 6, 1, 0x06, 0, 0, 0, 2},        // protocol id 1
+      {0, 1, 0, 0, 0, 8, 1, 0x06, 0, 0, 0, 2, 0, 0},  // length 8, FC06 has 6
+      {0, 1, 0, 0, 0, 1, 1},                          // length 1: no function code
+      {0, 1, 0, 0, 1, 0, 1},                          // length 256: over 260 bytes in all
+  };
+  for (const auto& adu : bad) {
+    const int fd = raw_connect(server.port());
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::send(fd, adu.data(), adu.size(), MSG_NOSIGNAL), static_cast<ssize_t>(adu.size()));
+    EXPECT_TRUE(closed_by_server(fd, 10));
+    ::close(fd);
+  }
+  std::uint16_t axis = 99;
+  ASSERT_EQ(modbus_read_registers(good.get(), map::kAxis, 1, &axis), 1);
+  EXPECT_EQ(axis, 0);  // no write applied
+  EXPECT_GE(server.server().counters().receive_errors, bad.size());
+}
+
+TEST_F(ModbusServerTest, TwoHundredConnectionsAtOnceLeaveTheServerServing) {
+  ModbusServerOptions options;
+  options.evict_idle_ms = 200;
+  test::LoopbackServer server(comp_, options);
+  std::vector<int> flood;
+  for (int i = 0; i < 200; ++i) {
+    const int fd = raw_connect(server.port());
+    if (fd >= 0) flood.push_back(fd);
+  }
+  ASSERT_EQ(flood.size(), 200u);
+  ASSERT_TRUE(wait_for_counters(server.server(), [](const ModbusCounters& c) {
+    return c.clients_connected + c.clients_refused == 200;
+  }));
+  EXPECT_EQ(server.server().counters().clients_active, 16u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(options.evict_idle_ms + 50));
+  test::Client good = test::connect_client(server.port());
+  map::Result r;
+  ASSERT_TRUE(test::transact(good.get(), test::example_request(), r)) << modbus_strerror(errno);
+  for (int fd : flood) ::close(fd);
+  ASSERT_TRUE(wait_for_counters(server.server(),
+                                [](const ModbusCounters& c) { return c.clients_active == 1; }));
+  ASSERT_TRUE(test::transact(good.get(), test::example_request(), r)) << modbus_strerror(errno);
 }
 
 // ---- RTU over a pseudo-terminal pair

@@ -18,6 +18,7 @@
 #include <cmmcomp/status.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 namespace cmmcomp::plugins {
 
@@ -94,7 +95,7 @@ class RequestHandler {
       sequence_ = sequence;
       words_[0] = w;
       next_part_ = 1;
-      deadline_ns_ = now_ns + part_timeout_ns_;
+      deadline_ns_ = deadline_after(now_ns);
       return;
     }
     if (!assembling_) {
@@ -112,7 +113,7 @@ class RequestHandler {
     words_[part] = w;
     if (part + 1 < kRequestParts) {
       next_part_ = static_cast<std::uint8_t>(part + 1);
-      deadline_ns_ = now_ns + part_timeout_ns_;
+      deadline_ns_ = deadline_after(now_ns);
       return;
     }
     assembling_ = false;
@@ -182,6 +183,13 @@ class RequestHandler {
   };
 
   // One writer thread: a load and a store are enough, and cheaper than a locked add.
+  /// now_ns + the part timeout, saturated: a clock near the end of int64 (any monotonic clock
+  /// is allowed) must not wrap the deadline into the past and reject a request that is on time.
+  std::int64_t deadline_after(std::int64_t now_ns) const noexcept {
+    const std::int64_t room = std::numeric_limits<std::int64_t>::max() - part_timeout_ns_;
+    return now_ns > room ? std::numeric_limits<std::int64_t>::max() : now_ns + part_timeout_ns_;
+  }
+
   static void bump(std::atomic<std::uint64_t>& c) noexcept {
     c.store(c.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   }

@@ -23,15 +23,18 @@ namespace cmmcomp::plugins {
 
 /// What the server does counted since it started (ModbusServer::counters()).
 struct ModbusCounters {
-  std::uint64_t requests = 0;           ///< request frames addressed to this server
-  std::uint64_t answered = 0;           ///< normal (non-exception) replies decided
-  std::uint64_t rejected = 0;           ///< requests refused for a bad value (exception 03)
-  std::uint64_t exceptions = 0;         ///< exception replies of any code (01, 02, 03, 0B)
-  std::uint64_t computations = 0;       ///< triggering writes that produced a result
-  std::uint64_t clients_connected = 0;  ///< TCP connections accepted (RTU: 0)
-  std::uint64_t clients_active = 0;     ///< TCP connections open now
-  std::uint64_t clients_refused = 0;    ///< TCP connections closed at once: max_tcp_clients open
-  std::uint64_t receive_errors = 0;     ///< frames lost: bad CRC, truncated, peer gone mid-frame
+  std::uint64_t requests = 0;             ///< request frames addressed to this server
+  std::uint64_t answered = 0;             ///< normal (non-exception) replies decided
+  std::uint64_t rejected = 0;             ///< requests refused for a bad value (exception 03)
+  std::uint64_t exceptions = 0;           ///< exception replies of any code (01, 02, 03, 0B)
+  std::uint64_t computations = 0;         ///< triggering writes that produced a result
+  std::uint64_t clients_connected = 0;    ///< TCP connections accepted (RTU: 0)
+  std::uint64_t clients_active = 0;       ///< TCP connections open now
+  std::uint64_t clients_refused = 0;      ///< TCP connections closed at once: max_tcp_clients open
+  std::uint64_t receive_errors = 0;       ///< frames lost: bad CRC or MBAP header, truncated,
+                                          ///< timed out, peer gone mid-frame
+  std::uint64_t clients_idle_closed = 0;  ///< TCP connections closed after idle_timeout_ms
+  std::uint64_t clients_evicted = 0;      ///< TCP connections closed for a new one (evict_idle_ms)
 };
 
 /// Modbus function codes the server implements.
@@ -100,6 +103,10 @@ class ModbusRequestHandler {
     bump(requests_);
     if (pdu == nullptr || size < 1) return exception(kIllegalDataValue);
     const std::uint8_t function = pdu[0];
+    // Codes 0x80..0xFF are exception responses, never requests, and their own exception answer
+    // (code | 0x80) cannot be encoded: libmodbus would send 0x90 as 0x10, which reads as a
+    // normal FC16 answer. Such a frame is not answered (issue 16 D11).
+    if (function >= 0x80) return {ModbusDecision::Kind::kSilent, 0};
     switch (function) {
       case kReadHoldingRegisters:
       case kReadInputRegisters: {
@@ -163,6 +170,8 @@ class ModbusRequestHandler {
   }
   void note_client_refused() noexcept { bump(clients_refused_); }
   void note_receive_error() noexcept { bump(receive_errors_); }
+  void note_client_idle_closed() noexcept { bump(clients_idle_closed_); }
+  void note_client_evicted() noexcept { bump(clients_evicted_); }
   /// A reply `handle` decided could not be sent (peer gone): it does not count as answered.
   void note_reply_failed() noexcept {
     answered_.store(answered_.load(std::memory_order_relaxed) - 1, std::memory_order_relaxed);
@@ -180,6 +189,8 @@ class ModbusRequestHandler {
     c.clients_active = clients_active_.load(std::memory_order_relaxed);
     c.clients_refused = clients_refused_.load(std::memory_order_relaxed);
     c.receive_errors = receive_errors_.load(std::memory_order_relaxed);
+    c.clients_idle_closed = clients_idle_closed_.load(std::memory_order_relaxed);
+    c.clients_evicted = clients_evicted_.load(std::memory_order_relaxed);
     return c;
   }
 
@@ -288,6 +299,8 @@ class ModbusRequestHandler {
   Counter clients_active_{0};
   Counter clients_refused_{0};
   Counter receive_errors_{0};
+  Counter clients_idle_closed_{0};
+  Counter clients_evicted_{0};
 };
 
 }  // namespace cmmcomp::plugins

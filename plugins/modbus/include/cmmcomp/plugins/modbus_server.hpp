@@ -37,13 +37,28 @@ struct ModbusEndpoint {
 };
 
 /// Options of a ModbusServer, fixed at construction.
+/// TCP frames are assembled per client without blocking, so no client delays another; the
+/// timeouts only decide when a connection is closed (docs/protocol-modbus.md, "Connections and
+/// timeouts").
 struct ModbusServerOptions {
-  int unit_id = 1;           ///< unit id (slave address) served, 1 .. 247
-  int max_tcp_clients = 16;  ///< TCP connections served at once; more are accepted and closed
-  /// Longest gap between two bytes of one frame [ms] before the frame is dropped (libmodbus
-  /// byte timeout). A client that stalls mid-frame delays the other clients by at most this.
+  int unit_id = 1;  ///< unit id (slave address) served, 1 .. 247
+  /// TCP connections served at once. When all are taken, a new connection replaces the one
+  /// idle longest if that one has been idle evict_idle_ms; otherwise it is closed at once.
+  int max_tcp_clients = 16;
+  /// Longest gap between two bytes of one frame [ms] (TCP and RTU): then the frame is dropped
+  /// (TCP: with its connection; RTU: the line is flushed). On RTU, libmodbus reads a frame
+  /// with this byte timeout, so a stalled frame holds the line for at most this.
   int byte_timeout_ms = 100;
-  /// Longest the server waits for I/O before looking at the stop flag again [ms].
+  /// TCP: longest time from a frame's first byte to its last [ms], byte_timeout_ms .. 60000:
+  /// a client trickling bytes just inside the byte timeout is closed after this.
+  int frame_timeout_ms = 1000;
+  /// TCP: a connection without a complete request for this long is closed [ms]; 0 = never.
+  int idle_timeout_ms = 60000;
+  /// TCP: how long a connection must have been idle before a new one may replace it when all
+  /// max_tcp_clients are taken [ms].
+  int evict_idle_ms = 1000;
+  /// Longest the server waits for I/O before looking at the stop flag and the timeouts again
+  /// [ms] (the timeouts above are kept to within this).
   int poll_interval_ms = 50;
 
   /// True when every field is usable; otherwise false and, if `why` is given, the reason.
@@ -67,8 +82,8 @@ class ModbusServer {
   /// e.g. "Modbus TCP 127.0.0.1:1502, unit 1" or "Modbus RTU /dev/ttyUSB0 115200 8N1, unit 1".
   std::string where() const;
 
-  /// Serves requests until `stop` is true (noticed within poll_interval_ms plus one frame's
-  /// byte timeout). Call from one thread at a time. Throws cmmcomp::Error only when the
+  /// Serves requests until `stop` is true (noticed within poll_interval_ms; on RTU plus one
+  /// frame's byte timeout). Call from one thread at a time. Throws cmmcomp::Error only when the
   /// listening socket or the serial device fails (not for a client's error: that client is
   /// dropped and counted).
   void run(const std::atomic<bool>& stop);
