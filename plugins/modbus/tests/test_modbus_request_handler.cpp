@@ -118,6 +118,8 @@ TEST_F(ModbusRequestHandlerTest, FunctionCodesFrom0x80AreNotAnswered) {
   for (int fc = 0x80; fc <= 0xFF; ++fc) {
     const std::vector<std::uint8_t> pdu = {static_cast<std::uint8_t>(fc), 0, 0, 0, 1};
     EXPECT_EQ(send(pdu).kind, Kind::kSilent) << fc;
+    // Found by fuzz_modbus_adu: for another unit, the 0B exception wrapped the same way.
+    EXPECT_EQ(handler_.handle(7, pdu.data(), pdu.size()).kind, Kind::kSilent) << fc;
   }
   EXPECT_EQ(handler_.counters().exceptions, 0u);
   EXPECT_EQ(send(pdu_read(0x7F, 0, 1)).exception, kIllegalFunction);  // the last code answered

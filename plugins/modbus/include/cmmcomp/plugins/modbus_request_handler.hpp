@@ -95,6 +95,13 @@ class ModbusRequestHandler {
   /// register. Before a read of input registers the status block (counters, model ids) is
   /// refreshed. RT-safe: no allocation, no lock, no syscall; bounded work.
   ModbusDecision handle(std::uint8_t unit, const std::uint8_t* pdu, std::size_t size) noexcept {
+    // Codes 0x80..0xFF are exception responses, never requests, and their own exception answer
+    // (code | 0x80) cannot be encoded: libmodbus would send 0x90 as 0x10, which reads as a
+    // normal FC16 answer. Such a frame is not answered, whatever unit it is for (issue 16 D11).
+    if (pdu != nullptr && size >= 1 && pdu[0] >= 0x80) {
+      if (addressed_to_me(unit)) bump(requests_);
+      return {ModbusDecision::Kind::kSilent, 0};
+    }
     if (!addressed_to_me(unit)) {
       if (transport_ == ModbusTransport::kRtu) return {ModbusDecision::Kind::kSilent, 0};
       bump(requests_);
@@ -103,10 +110,6 @@ class ModbusRequestHandler {
     bump(requests_);
     if (pdu == nullptr || size < 1) return exception(kIllegalDataValue);
     const std::uint8_t function = pdu[0];
-    // Codes 0x80..0xFF are exception responses, never requests, and their own exception answer
-    // (code | 0x80) cannot be encoded: libmodbus would send 0x90 as 0x10, which reads as a
-    // normal FC16 answer. Such a frame is not answered (issue 16 D11).
-    if (function >= 0x80) return {ModbusDecision::Kind::kSilent, 0};
     switch (function) {
       case kReadHoldingRegisters:
       case kReadInputRegisters: {
