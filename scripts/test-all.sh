@@ -3,7 +3,7 @@
 # README command 2 (and all of CI): install what is missing, then build and run every test:
 # the release build with warnings as errors (all ctest labels), the ASan+UBSan build of the
 # tests, the firmware builds (Cortex-M7 under qemu-system-arm, aarch64 under qemu-aarch64), the
-# libFuzzer smoke and the clang-format check.
+# ThreadSanitizer on the concurrency tests, the libFuzzer smoke and the clang-format check.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
@@ -12,7 +12,8 @@ start=$(date +%s)
 
 bash scripts/install-deps.sh
 
-# stage TITLE PRESET [CTEST ARGS...]: configure, build and test one preset, timing it.
+# stage TITLE PRESET [CTEST ARGS...]: configure, build and test one preset, timing it. With
+# STAGE_TARGETS set, builds only those targets.
 stage() {
   local title="$1" preset="$2"
   shift 2
@@ -20,7 +21,9 @@ stage() {
   t0=$(date +%s)
   echo "== $title =="
   cmake --preset "$preset"
-  cmake --build --preset "$preset" -j "$jobs"
+  local targets=()
+  for t in ${STAGE_TARGETS:-}; do targets+=(--target "$t"); done
+  cmake --build --preset "$preset" -j "$jobs" "${targets[@]}"
   ctest --preset "$preset" "$@"
   echo "== $title: $(( $(date +%s) - t0 )) s =="
 }
@@ -31,6 +34,11 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 stage "Cortex-M7 firmware (qemu-system-arm -M mps2-an500)" fw-cortex-m7 -j "$jobs"
 bash scripts/firmware-figures.sh
 stage "aarch64 Linux (qemu-aarch64): the core's unit tests and golden vectors" aarch64 -j "$jobs"
+# The programs labelled concurrency: the compensators' hot swap, the Modbus server under many
+# and hostile clients, the agent's reload on SIGHUP.
+STAGE_TARGETS="test_move_compensator test_static_compensator test_modbus_server test_agent_modbus" \
+  TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+  stage "ThreadSanitizer: the concurrency tests" tsan -L concurrency -j "$jobs"
 # One target at a time: each fuzzes for CMMCOMP_FUZZ_SECONDS.
 stage "libFuzzer smoke: every target on its committed corpus" fuzz
 

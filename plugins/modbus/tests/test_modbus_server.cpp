@@ -348,18 +348,16 @@ TEST_F(ModbusServerTest, SeventeenthClientReplacesTheConnectionIdleLongest) {
   }
   ASSERT_TRUE(wait_for_counters(server.server(),
                                 [](const ModbusCounters& c) { return c.clients_active == 16; }));
-  // Not idle long enough yet: a newcomer is closed at once, the 16 stay.
-  const int early = raw_connect(server.port());
-  EXPECT_TRUE(closed_by_server(early, 5));
-  ::close(early);
-  EXPECT_EQ(server.server().counters().clients_refused, 1u);
   // Once they have been idle evict_idle_ms, the 17th takes the place of the one idle longest.
+  // (A newcomer before that is refused: ClientsBeyondTheLimitAreClosed. It is not tested here,
+  // since a loaded machine may take evict_idle_ms to connect the 16.)
   std::this_thread::sleep_for(std::chrono::milliseconds(options.evict_idle_ms + 50));
   test::Client good = test::connect_client(server.port());
   map::Result r;
   ASSERT_TRUE(test::transact(good.get(), test::example_request(), r)) << modbus_strerror(errno);
   EXPECT_EQ(r.sequence, 7);
   EXPECT_EQ(server.server().counters().clients_evicted, 1u);
+  EXPECT_EQ(server.server().counters().clients_refused, 0u);
   EXPECT_TRUE(closed_by_server(idle.front(), 5));  // the first connected, idle longest
   for (int fd : idle) ::close(fd);
 }
