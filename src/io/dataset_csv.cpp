@@ -43,10 +43,25 @@ std::vector<std::string> split(const std::string& line) {
   return cells;
 }
 
+/// Why `v` may not stand in column `f`, or an empty string.
+std::string range_problem(std::size_t f, double v) {
+  const DatasetColumnRange& r = kDatasetRanges[f];
+  if (!std::isfinite(v)) return "is not finite";
+  const bool low = r.min_exclusive ? !(v > r.min) : !(v >= r.min);
+  if (!low && v <= r.max) return {};
+  return fmt::format("is outside {}{:g} .. {:g}{} (docs/dataset-csv.md)",
+                     r.min_exclusive ? "(" : "[",
+                     r.min,
+                     r.max,
+                     "]");
+}
+
 }  // namespace
 
 std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::string& source) {
-  std::istringstream in(text);
+  // A byte-order mark, as some spreadsheet programs write, is not part of the first column name.
+  const bool bom = text.compare(0, 3, "\xEF\xBB\xBF") == 0;
+  std::istringstream in(bom ? text.substr(3) : text);
   std::string line;
   int line_no = 0;
   std::vector<int> column_of_field;  // cell index of each schema column
@@ -77,6 +92,13 @@ std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::st
       }
       continue;
     }
+    if (in.eof()) {  // getline met the end of the text before a line end
+      throw ConfigError(fmt::format(
+          "{}:{}: the last line has no line end: the file may have been cut inside a cell "
+          "(if it is complete, end it with a line break)",
+          source,
+          line_no));
+    }
     if (cells.size() != header_cells) {
       throw ConfigError(fmt::format(
           "{}:{}: {} cells, the header has {}", source, line_no, cells.size(), header_cells));
@@ -87,13 +109,17 @@ std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::st
       char* end = nullptr;
       errno = 0;
       const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size() || errno == ERANGE) {
+      // ERANGE with a finite result is an underflow to a subnormal or zero: a number all the
+      // same. An overflow gives ±HUGE_VAL.
+      const bool overflow = errno == ERANGE && std::isinf(v);
+      if (cell.empty() || end != cell.c_str() + cell.size() || overflow) {
         throw ConfigError(fmt::format(
             "{}:{}: column '{}': '{}' is not a number", source, line_no, kDatasetColumns[f], cell));
       }
-      if (!std::isfinite(v)) {
+      const std::string problem = range_problem(f, v);
+      if (!problem.empty()) {
         throw ConfigError(fmt::format(
-            "{}:{}: column '{}': '{}' is not finite", source, line_no, kDatasetColumns[f], cell));
+            "{}:{}: column '{}': '{}' {}", source, line_no, kDatasetColumns[f], cell, problem));
       }
       row.*kFields[f] = v;
     }
@@ -115,7 +141,18 @@ std::string format_dataset_csv(const std::vector<DatasetRow>& rows) {
     s += kDatasetColumns[f];
   }
   s += '\n';
-  for (const DatasetRow& r : rows) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const DatasetRow& r = rows[i];
+    for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
+      const std::string problem = range_problem(f, r.*kFields[f]);
+      if (!problem.empty()) {
+        throw ConfigError(fmt::format("dataset row {}: column '{}': {} {}",
+                                      i + 1,
+                                      kDatasetColumns[f],
+                                      r.*kFields[f],
+                                      problem));
+      }
+    }
     for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
       fmt::format_to(std::back_inserter(s), "{}{:.10g}", f ? "," : "", r.*kFields[f]);
     }

@@ -68,6 +68,7 @@ class AgentProcess {
   }
 
   void signal(int sig) const { kill(pid_, sig); }
+  pid_t pid() const { return pid_; }
 
   /// Exit status after waiting at most `timeout`; -1 if still running, 128+N if killed by N.
   int wait_exit(std::chrono::milliseconds timeout) {

@@ -3,8 +3,12 @@
 /// model with its warning, answers equal to the in-process compensator's, SIGHUP hot reload,
 /// a corrupt file on reload keeps the old model serving, SIGTERM exits cleanly, and bad
 /// arguments are refused with a clear message.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <modbus/modbus.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -24,6 +28,7 @@
 #include <vector>
 
 #include "agent/agent_process.hpp"
+#include "support/loopback_socket.hpp"
 
 #ifndef CMMCOMP_AGENT_PATH
 #error "CMMCOMP_AGENT_PATH must name the cmmcomp-agent executable"
@@ -174,9 +179,108 @@ TEST(Agent, SighupReloadsAndABadFileKeepsTheOldModelServing) {
   EXPECT_EQ(r.model_id, id_of(b));
   expect_same(r, expected(b, probing_move(3)));
 
+  // A FIFO at the model path used to block the reload, and with it SIGTERM (issue 16 D6).
+  std::filesystem::remove(path);
+  ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+  agent.process->signal(SIGHUP);
+  ASSERT_TRUE(agent.process->wait_for_output("not a regular file", 5s)) << agent.process->output();
+  r = ask(c.get(), probing_move(4));
+  EXPECT_EQ(r.model_id, id_of(b));
+
   agent.process->signal(SIGTERM);
   EXPECT_EQ(agent.process->wait_exit(5s), 0) << agent.process->output();
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+/// The agent's resident set [kB], from /proc.
+long rss_kb(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::strtol(line.c_str() + 6, nullptr, 10);
+  }
+  return -1;
+}
+
+/// Sends `adu` on a fresh connection; returns the answer's bytes, empty when the agent dropped
+/// the connection without one (`*closed`) or sent nothing within the 5 s receive timeout. A
+/// connection dropped with bytes still unread in the agent's socket arrives as a reset, not an
+/// end of stream: both count as closed.
+std::vector<std::uint8_t> exchange(int port, const std::vector<std::uint8_t>& adu, bool* closed) {
+  const int fd = test::raw_connect(port, 5);
+  std::vector<std::uint8_t> answer(300);
+  *closed = false;
+  if (fd < 0 ||
+      ::send(fd, adu.data(), adu.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(adu.size())) {
+    ADD_FAILURE() << "cannot send to the agent";
+    if (fd >= 0) ::close(fd);
+    return {};
+  }
+  const ssize_t n = ::recv(fd, answer.data(), answer.size(), 0);
+  *closed = n == 0 || (n < 0 && errno == ECONNRESET);
+  answer.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+  ::close(fd);
+  return answer;
+}
+
+// Issue 16, bad input at the process level: malformed and hostile Modbus TCP traffic, bounded in
+// count and time; afterwards a well-formed client is served and the agent's memory is flat.
+TEST(Agent, HostileModbusTrafficLeavesTheAgentServing) {
+  RunningAgent agent = start_agent({});
+  ASSERT_TRUE(agent.process);
+  {
+    Client warm = connect(agent.port);
+    EXPECT_EQ(ask(warm.get(), probing_move(1)).sequence, 1);
+  }
+  const long rss_before = rss_kb(agent.process->pid());
+  ASSERT_GT(rss_before, 0);
+  for (int round = 0; round < 20; ++round) {
+    bool closed = false;
+    // Truncated MBAP header, then gone.
+    const int t = test::raw_connect(agent.port);
+    ASSERT_GE(t, 0);
+    ASSERT_EQ(::send(t, "\0\1\0", 3, MSG_NOSIGNAL), 3);
+    ::close(t);
+    // Wrong protocol id, a length over 260, a length that disagrees with FC06: closed, no answer.
+    for (const std::vector<std::uint8_t>& bad :
+         {std::vector<std::uint8_t>{0, 1, 0, 7, 0, 6, 1, 0x06, 0, 0, 0, 1},
+          std::vector<std::uint8_t>{0, 1, 0, 0, 1, 0x2C, 1, 0x03},
+          std::vector<std::uint8_t>{0, 1, 0, 0, 0, 9, 1, 0x06, 0, 0, 0, 1, 0, 0, 0}}) {
+      EXPECT_TRUE(exchange(agent.port, bad, &closed).empty());
+      EXPECT_TRUE(closed);
+    }
+    // An unknown function code: exception 01. A NaN write: exception 03.
+    std::vector<std::uint8_t> a = exchange(agent.port, {0, 2, 0, 0, 0, 2, 1, 0x41}, &closed);
+    ASSERT_EQ(a.size(), 9u);
+    EXPECT_EQ(a[7], 0xC1);
+    EXPECT_EQ(a[8], 0x01);
+    a = exchange(agent.port, {0, 3, 0, 0, 0, 6, 1, 0x06, 0, map::kPv, 0x7F, 0xC0}, &closed);
+    ASSERT_EQ(a.size(), 9u);
+    EXPECT_EQ(a[7], 0x86);
+    EXPECT_EQ(a[8], 0x03);
+  }
+  // 200 connections at once, all idle, then gone.
+  std::vector<int> flood;
+  for (int i = 0; i < 200; ++i) {
+    const int fd = test::raw_connect(agent.port);
+    if (fd >= 0) flood.push_back(fd);
+  }
+  EXPECT_EQ(flood.size(), 200u);
+  for (const int fd : flood) ::close(fd);
+  // A well-formed client is served; the agent grew by less than 4 MiB over all of it.
+  Client good;
+  for (int attempt = 0; attempt < 50; ++attempt) {  // until the closes are noticed
+    good = connect(agent.port);
+    std::uint16_t reg = 0;
+    if (modbus_read_input_registers(good.get(), 0, 1, &reg) == 1) break;
+    std::this_thread::sleep_for(100ms);
+  }
+  const map::Result r = ask(good.get(), probing_move(77));
+  EXPECT_EQ(r.sequence, 77);
+  EXPECT_EQ(r.status, 0);
+  const long rss_after = rss_kb(agent.process->pid());
+  EXPECT_LT(rss_after - rss_before, 4096) << rss_before << " kB -> " << rss_after << " kB";
+  agent.process->signal(SIGTERM);
+  EXPECT_EQ(agent.process->wait_exit(5s), 0) << agent.process->output();
 }
 
 TEST(Agent, RefusesBadArgumentsWithAClearMessage) {

@@ -4,6 +4,8 @@
 
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace cmmcomp::io {
@@ -56,6 +58,54 @@ TEST(DatasetCsv, ErrorsNameFileLineAndColumn) {
             "data.csv:2: column 'rae_um': '' is not a number");
   EXPECT_EQ(error_of(kHeader + "40,40,12,10,200,60,250,13,5,7,1e999\n"),
             "data.csv:2: column 'rae_um': '1e999' is not a number");
+}
+
+// Issue 16 D12: subnormals, a byte-order mark, a file cut inside its last cell, absurd values.
+TEST(DatasetCsv, HostileButValidAndInvalidCells) {
+  const std::string row = "40,40,12,10,200,60,250,13,5,7,";
+  EXPECT_EQ(parse_dataset_csv(kHeader + row + "4.9e-324\n", "mem").at(0).rae_um, 4.9e-324);
+  EXPECT_EQ(parse_dataset_csv("\xEF\xBB\xBF" + kHeader + row + "3\n", "mem").size(), 1u);
+  EXPECT_EQ(error_of(kHeader + row + "3.25"),
+            "data.csv:2: the last line has no line end: the file may have been cut inside a cell "
+            "(if it is complete, end it with a line break)");
+  EXPECT_EQ(error_of(kHeader + "1e308,40,12,10,200,60,250,13,5,7,3\n"),
+            "data.csv:2: column 'pv_mm_s': '1e308' is outside (0 .. 2000] (docs/dataset-csv.md)");
+  EXPECT_EQ(error_of(kHeader + "40,0,12,10,200,60,250,13,5,7,3\n"),
+            "data.csv:2: column 'pd_mm': '0' is outside (0 .. 10000] (docs/dataset-csv.md)");
+  EXPECT_EQ(error_of(kHeader + "40,40,12,10,200,60,250,-1,5,7,3\n"),
+            "data.csv:2: column 'mpe_um': '-1' is outside [0 .. 10000] (docs/dataset-csv.md)");
+  DatasetRow bad{40, 40, 12, 10, 200, 60, 250, 13, 5, 7, 1.7e308};
+  try {
+    format_dataset_csv({DatasetRow{40, 40, 12, 10, 200, 60, 250, 13, 5, 7, 3}, bad});
+    FAIL() << "wrote a row the reader refuses";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("dataset row 2: column 'rae_um': ", 0), 0u) << e.what();
+  }
+}
+
+// The ranges in the code are the ones the document lists.
+TEST(DatasetCsv, RangesAreTheDocumentedOnes) {
+  std::ifstream in(std::string(CMMCOMP_DOCS_DIR) + "/dataset-csv.md");
+  ASSERT_TRUE(in.good());
+  std::stringstream doc;
+  doc << in.rdbuf();
+  const auto number = [](double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  };
+  for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
+    const DatasetColumnRange& r = kDatasetRanges[f];
+    const std::string cell =
+        std::string(r.min_exclusive ? "(" : "[") + number(r.min) + " .. " + number(r.max) + "] |\n";
+    const std::string head = std::string("| `") + kDatasetColumns[f] + "` |";
+    const std::size_t at = doc.str().find(head);
+    ASSERT_NE(at, std::string::npos) << head;
+    const std::size_t end = doc.str().find('\n', at);
+    const std::string line = doc.str().substr(at, end + 1 - at);
+    EXPECT_GE(line.size(), cell.size());
+    EXPECT_EQ(line.substr(line.size() - cell.size()), cell) << line;
+  }
 }
 
 TEST(DatasetCsv, MissingFileIsAClearError) {

@@ -18,6 +18,7 @@
 #include <cmmcomp/plugins/can_server.hpp>
 #include <cmmcomp/plugins/modbus_server.hpp>
 #include <cmmcomp/version.hpp>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
@@ -194,6 +195,26 @@ int serve(const Options& opt) {
   if (can) serve_on_thread(std::move(can));
   if (modbus) serve_on_thread(std::move(modbus));
 
+  // Reloads run on their own thread, so the signal loop always sees SIGTERM at once, whatever
+  // a reload is reading (issue 16 D6). SIGHUPs that arrive during a reload are folded into one
+  // more reload after it. The reloader is the only publisher once the servers run.
+  std::mutex reload_mutex;
+  std::condition_variable reload_wanted;
+  bool reload_pending = false;
+  bool reloader_stop = false;
+  std::thread reloader([&] {
+    std::unique_lock<std::mutex> lock(reload_mutex);
+    while (true) {
+      reload_wanted.wait(lock, [&] { return reload_pending || reloader_stop; });
+      if (reloader_stop) return;
+      reload_pending = false;
+      lock.unlock();
+      spdlog::info("SIGHUP: reloading {} model(s)", slots.size());
+      report(cmmcomp::agent::load_slots(slots, compensator), true);
+      lock.lock();
+    }
+  });
+
   int exit_code = 0;
   while (true) {
     const timespec tick{0, 200'000'000};
@@ -203,8 +224,11 @@ int serve(const Options& opt) {
       break;
     }
     if (sig == SIGHUP) {
-      spdlog::info("SIGHUP: reloading {} model(s)", slots.size());
-      report(cmmcomp::agent::load_slots(slots, compensator), true);
+      {
+        const std::lock_guard<std::mutex> lock(reload_mutex);
+        reload_pending = true;
+      }
+      reload_wanted.notify_one();
     } else if (sig == SIGTERM || sig == SIGINT) {
       spdlog::info("{}: stopping", sig == SIGTERM ? "SIGTERM" : "SIGINT");
       break;
@@ -216,6 +240,14 @@ int serve(const Options& opt) {
   }
   stop = true;
   threads.clear();  // joins; each thread logs its counters
+  {
+    const std::lock_guard<std::mutex> lock(reload_mutex);
+    reloader_stop = true;
+  }
+  reload_wanted.notify_one();
+  // A reload in progress finishes first: every read is bounded (a regular file of at most
+  // 4 MiB, opened non-blocking: docs/fuzzing.md, "Files").
+  reloader.join();
   spdlog::info("stopped");
   return exit_code;
 }

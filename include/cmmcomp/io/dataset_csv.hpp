@@ -41,15 +41,41 @@ inline constexpr std::array<const char*, 11> kDatasetColumns = {"pv_mm_s",
                                                                 "mae_um",
                                                                 "rae_um"};
 
-/// Parses CSV text; `source` names it in messages. Throws ConfigError
-/// "source:line: column 'name': what is wrong" for a missing column, a non-numeric, NaN or
-/// infinite cell, a short row, or a file without data rows.
+/// The values a cell may hold, per column of kDatasetColumns (docs/dataset-csv.md): wide enough
+/// for any CMM, narrow enough that one absurd row (a PV of 1e308) cannot widen a trained model's
+/// input range until its out-of-domain flag never fires.
+struct DatasetColumnRange {
+  double min;
+  double max;
+  bool min_exclusive;  ///< true: min itself is refused (speeds, distances, accelerations > 0)
+};
+inline constexpr std::array<DatasetColumnRange, 11> kDatasetRanges = {{
+    {0, 2000, true},         // pv_mm_s
+    {0, 10000, true},        // pd_mm
+    {0, 2000, true},         // av_mm_s
+    {0, 10000, true},        // ad_mm
+    {0, 50000, true},        // pa_mm_s2
+    {0, 50000, true},        // aa_mm_s2
+    {-10000, 10000, false},  // y_mm
+    {0, 10000, false},       // mpe_um (a magnitude)
+    {-10000, 10000, false},  // rpe_um
+    {0, 10000, false},       // mae_um (a magnitude)
+    {-10000, 10000, false},  // rae_um
+}};
+
+/// Parses CSV text; `source` names it in messages. A UTF-8 byte-order mark before the header
+/// is skipped. Throws ConfigError "source:line: column 'name': what is wrong" for a missing
+/// column, a non-numeric, NaN or infinite cell, a value outside kDatasetRanges, a short row, a
+/// last line without its line end (the file may have been cut inside a cell), or a file
+/// without data rows.
 std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::string& source);
 /// Reads a file (ConfigError when it cannot be opened, or as parse_dataset_csv).
 std::vector<DatasetRow> read_dataset_csv(const std::string& path);
-/// CSV text with the header and full-precision values.
+/// CSV text with the header and 10 significant digits. Throws ConfigError for a row the
+/// reader would refuse (a value outside kDatasetRanges, or not finite), naming row and column.
 std::string format_dataset_csv(const std::vector<DatasetRow>& rows);
-/// Writes a file; throws Error when it cannot.
+/// Writes a file atomically (format_dataset_csv, then io::write_file_atomically); throws
+/// ConfigError as format_dataset_csv, Error when it cannot write.
 void write_dataset_csv(const std::string& path, const std::vector<DatasetRow>& rows);
 
 }  // namespace cmmcomp::io

@@ -22,6 +22,7 @@
 
 #include "modbus_example_result.hpp"
 #include "modbus_test_support.hpp"
+#include "support/loopback_socket.hpp"
 
 namespace {
 
@@ -188,19 +189,7 @@ TEST_F(ModbusServerTest, EightConcurrentClientsDuringHotSwaps) {
   EXPECT_EQ(n.computations, static_cast<std::uint64_t>(kClients * kRequests));
 }
 
-/// A raw TCP connection to 127.0.0.1:`port` (for frames libmodbus would not send).
-int raw_connect(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
+using test::raw_connect;
 
 TEST_F(ModbusServerTest, ClientDroppingMidFrameDoesNotDisturbOthers) {
   test::LoopbackServer server(comp_);
