@@ -49,11 +49,10 @@ std::string range_problem(std::size_t f, double v) {
   if (!std::isfinite(v)) return "is not finite";
   const bool low = r.min_exclusive ? !(v > r.min) : !(v >= r.min);
   if (!low && v <= r.max) return {};
-  return fmt::format("is outside {}{:g} .. {:g}{} (docs/dataset-csv.md)",
+  return fmt::format("is outside {}{:g} .. {:g}] (docs/dataset-csv.md)",
                      r.min_exclusive ? "(" : "[",
                      r.min,
-                     r.max,
-                     "]");
+                     r.max);
 }
 
 }  // namespace

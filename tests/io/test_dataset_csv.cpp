@@ -4,7 +4,7 @@
 
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
-#include <fstream>
+#include <cmmcomp/io/file_io.hpp>
 #include <sstream>
 #include <string>
 
@@ -85,10 +85,8 @@ TEST(DatasetCsv, HostileButValidAndInvalidCells) {
 
 // The ranges in the code are the ones the document lists.
 TEST(DatasetCsv, RangesAreTheDocumentedOnes) {
-  std::ifstream in(std::string(CMMCOMP_DOCS_DIR) + "/dataset-csv.md");
-  ASSERT_TRUE(in.good());
-  std::stringstream doc;
-  doc << in.rdbuf();
+  const std::string doc = read_file_bounded(
+      std::string(CMMCOMP_DOCS_DIR) + "/dataset-csv.md", "document", kMaxTextFileBytes);
   const auto number = [](double v) {
     std::ostringstream o;
     o << v;
@@ -99,10 +97,9 @@ TEST(DatasetCsv, RangesAreTheDocumentedOnes) {
     const std::string cell =
         std::string(r.min_exclusive ? "(" : "[") + number(r.min) + " .. " + number(r.max) + "] |\n";
     const std::string head = std::string("| `") + kDatasetColumns[f] + "` |";
-    const std::size_t at = doc.str().find(head);
+    const std::size_t at = doc.find(head);
     ASSERT_NE(at, std::string::npos) << head;
-    const std::size_t end = doc.str().find('\n', at);
-    const std::string line = doc.str().substr(at, end + 1 - at);
+    const std::string line = doc.substr(at, doc.find('\n', at) + 1 - at);
     EXPECT_GE(line.size(), cell.size());
     EXPECT_EQ(line.substr(line.size() - cell.size()), cell) << line;
   }
