@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
-/// @file Cost of one MoveCompensator::before_approach (paper's 4x3x4 network), through the C++
-/// API and the C ABI, and with the shipped 5-input model. Target: median <= 300 ns per call.
+/// @file Cost of one MoveCompensator::before_approach (the paper's inputs, 3 sets, 4 outputs),
+/// through the C++ API and the C ABI, and with the shipped 5-input model. Target: median <= 300 ns
+/// per call.
 #include <benchmark/benchmark.h>
 #include <cmmcomp/compensator.h>
 
 #include <array>
 #include <cmmcomp/compensation/move_compensator.hpp>
-#include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/io/compensation_model_file.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <random>
@@ -19,8 +20,8 @@ namespace cm = cmmcomp::compensation;
 constexpr std::size_t kMoves = 1024;  // a power of two, cycled through
 
 // A random valid model over the paper's move ranges (mm, mm/s), consequents of a few µm.
-cm::MoveCompensator::Model random_model(std::mt19937_64& rng) {
-  cm::MoveCompensator::Model m;
+cm::Model<cmmcomp::PaperInputs> random_model(std::mt19937_64& rng) {
+  cm::Model<cmmcomp::PaperInputs> m;
   m.ranges = {cmmcomp::fuzzy::InputRange{10.0, 100.0},
               cmmcomp::fuzzy::InputRange{5.0, 200.0},
               cmmcomp::fuzzy::InputRange{2.0, 30.0},
@@ -34,15 +35,15 @@ cm::MoveCompensator::Model random_model(std::mt19937_64& rng) {
       m.params.width(i, s) = width(rng);
     }
   }
-  for (int k = cm::MoveCompensator::Model::Params::kConsequentsOffset;
-       k < cm::MoveCompensator::Model::kParamCount;
+  for (int k = cm::Model<cmmcomp::PaperInputs>::Params::kConsequentsOffset;
+       k < cm::Model<cmmcomp::PaperInputs>::kParamCount;
        ++k) {
     m.params.values[static_cast<unsigned>(k)] = coef(rng);
   }
   return m;
 }
 
-std::vector<cm::MoveRequest> random_moves(const cm::MoveCompensator::Model& m,
+std::vector<cm::MoveRequest> random_moves(const cm::Model<cmmcomp::PaperInputs>::Network& m,
                                           std::mt19937_64& rng) {
   std::vector<cm::MoveRequest> moves(kMoves);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -97,7 +98,8 @@ BENCHMARK(BM_BeforeApproach);
 // The 5-input model (PV, PD, AV, AD, Y; 243 rules): the shipped data/models/default-y.json, moves
 // spread over its ranges, Y included.
 void BM_BeforeApproach5Inputs(benchmark::State& state) {
-  const auto file = cmmcomp::io::load_model_file<5, 3, 4>(CMMCOMP_DEFAULT_Y_MODEL);
+  const auto file =
+      cmmcomp::io::load_model_file_of<cmmcomp::CarriageInputs>(CMMCOMP_DEFAULT_Y_MODEL);
   std::mt19937_64 rng(20190601u);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto in = [&](int i) {
@@ -116,17 +118,18 @@ void BM_BeforeApproach5Inputs(benchmark::State& state) {
     r.aa_mm_s2 = 60.0;
   }
   cm::MoveCompensator comp;
-  if (comp.publish(0, file.model, 1u) != cmmcomp::Status::kOk) state.SkipWithError("publish");
+  if (comp.publish(0, file.compensation_model(), 1u) != cmmcomp::Status::kOk) {
+    state.SkipWithError("publish");
+  }
   time_calls(state, comp, moves);
 }
 BENCHMARK(BM_BeforeApproach5Inputs);
 
 void BM_CapiBeforeApproach(benchmark::State& state) {
   std::mt19937_64 rng(20190601u);
-  cmmcomp::io::ModelFile<4, 3, 4> file;
+  cmmcomp::io::ModelFileOf<cmmcomp::PaperInputs> file;
   file.model = random_model(rng);
   const auto moves = random_moves(file.model, rng);
-  cmmcomp::io::set_paper_names(file);
   file.training.method = "benchmark";
   file.training.cv_rmse = {0.0, 0.0, 0.0, 0.0};
   file.training.trained_at = "2026-01-01T00:00:00Z";

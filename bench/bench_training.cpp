@@ -10,7 +10,7 @@ namespace {
 
 using namespace cmmcomp;
 
-training::PaperSamples paper_training_set() {
+training::Samples<4> paper_training_set() {
   dynamics::DatasetOptions options;
   options.noise.enabled = true;
   options.noise.seed = 1;
@@ -18,12 +18,12 @@ training::PaperSamples paper_training_set() {
       dynamics::default_machine(),
       dynamics::rows_from_design(doe::replicate(doe::paper_l18_design(), 3), {}),
       options);
-  return training::paper_samples(rows);
+  return training::samples<cmmcomp::PaperInputs>(rows);
 }
 
 // The multi-output network (shared premise, MPE/RPE/MAE/RAE), default options (CV + LM).
-void BM_TrainPaperMultiNetwork(benchmark::State& state) {
-  const training::PaperSamples s = paper_training_set();
+void BM_TrainPaperInputs4Outputs(benchmark::State& state) {
+  const training::Samples<4> s = paper_training_set();
   training::FnnTrainingOptions options;
   for (auto _ : state) {
     auto r = training::train_fnn<4, 3, 4>(s.inputs, s.targets, options);
@@ -31,11 +31,11 @@ void BM_TrainPaperMultiNetwork(benchmark::State& state) {
     state.counters["lm_iterations"] = r.summary.iterations;
   }
 }
-BENCHMARK(BM_TrainPaperMultiNetwork)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_TrainPaperInputs4Outputs)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // The paper's form: four single-output networks, one after the other.
 void BM_TrainFourPaperNetworks(benchmark::State& state) {
-  const training::PaperSamples s = paper_training_set();
+  const training::Samples<4> s = paper_training_set();
   training::FnnTrainingOptions options;
   for (auto _ : state) {
     for (std::size_t o = 0; o < 4; ++o) {

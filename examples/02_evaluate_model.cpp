@@ -15,7 +15,7 @@
 int main() {
   using namespace cmmcomp;
   // Parse and validate the compiled-in model (setup code: allocates, may throw ConfigError).
-  const io::ModelFile<4, 3, 4> file = io::default_model_file();
+  const io::ModelFileOf<PaperInputs> file = io::default_model_file();
   std::printf("model %s from %s\n", file.model_id.c_str(), io::kDefaultModelSource);
   for (std::size_t i = 0; i < 4; ++i) {
     std::printf("  input %-8s trained on [%g, %g] %s\n",

@@ -34,11 +34,12 @@ int main() {
               rows[0].rae_um);
 
   // 4. Train: ridge initialisation, lambda by 5-fold CV, then 2 Levenberg-Marquardt iterations.
-  const training::PaperSamples samples = training::paper_samples(rows);
+  const auto samples = training::samples<PaperInputs>(rows);  // PV, PD, AV, AD -> four errors
   training::FnnTrainingOptions topt;
   topt.max_iterations = 2;
-  topt.input_names = training::paper_input_names();
-  const auto result = training::train_fnn<4, 3, 4>(samples.inputs, samples.targets, topt);
+  topt.input_names = training::input_labels<PaperInputs>();
+  const auto result = training::train_fnn<PaperInputs::kCount, 3, kErrorCount>(
+      samples.inputs, samples.targets, topt);
   const training::TrainingSummary& sum = result.summary;
   std::printf("trained in %.2f s, %d iterations, lambda %g, cost %.4g -> %.4g\n",
               sum.wall_seconds,

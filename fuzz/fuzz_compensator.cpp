@@ -20,11 +20,11 @@ using compensation::MoveRequest;
 
 struct Compensators {
   compensation::MoveCompensator hosted;
-  compensation::StaticMoveCompensator<fuzzy::PaperMultiNetwork> firmware;
+  compensation::StaticMoveCompensator<compensation::Model<PaperInputs>> firmware;
   Compensators() {
     const auto file = io::default_model_file();
     for (int axis = 0; axis < 3; ++axis) {
-      if (hosted.publish(axis, file.model, 1) != Status::kOk) std::abort();
+      if (hosted.publish(axis, file.compensation_model(), 1) != Status::kOk) std::abort();
       if (firmware.publish(axis, file.model, 1) != Status::kOk) std::abort();
     }
   }

@@ -15,7 +15,7 @@ inline const compensation::MoveCompensator& shipped_compensator() {
     auto* m = new compensation::MoveCompensator;
     const auto file = io::default_model_file();
     for (int axis = 0; axis < 3; ++axis) {
-      if (m->publish(axis, file.model, 1) != Status::kOk) std::abort();
+      if (m->publish(axis, file.compensation_model(), 1) != Status::kOk) std::abort();
     }
     return m;
   }();

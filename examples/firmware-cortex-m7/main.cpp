@@ -23,8 +23,8 @@ using cmmcomp::compensation::MoveRequest;
 
 // The model compiled into the image, converted to float at compile time (read-only memory), and
 // checked at compile time: a model that could not be published does not build.
-using Model = cmmcomp::fuzzy::TskModel<float, 4, 3, 4>;
-constexpr Model kModel = cmmcomp::fuzzy::convert_model<float>(default_model);
+using Model = cmmcomp::compensation::Model<cmmcomp::PaperInputs, float>;
+constexpr Model kModel{cmmcomp::fuzzy::convert_model<float>(default_model)};
 static_assert(!cmmcomp::fuzzy::find_problem(kModel), "the compiled-in model is valid");
 
 // Static storage (.bss): no heap anywhere in the image's compensation path.

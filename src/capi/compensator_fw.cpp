@@ -11,7 +11,14 @@
 
 namespace {
 
-using Model = cmmcomp::fuzzy::TskModel<CMMCOMP_FW_SCALAR, CMMCOMP_FW_INPUTS, 3, 4>;
+// The C header names the input set by its size (compensator_fw.h: 4 = PV, PD, AV, AD; 5 = and Y).
+#if CMMCOMP_FW_INPUTS == 5
+using Inputs = cmmcomp::CarriageInputs;
+#else
+using Inputs = cmmcomp::PaperInputs;
+#endif
+using Model = cmmcomp::compensation::Model<Inputs, CMMCOMP_FW_SCALAR>;
+static_assert(Inputs::kCount == CMMCOMP_FW_INPUTS, "the C header's input count");
 
 // cmmcomp_fw_model is Model's layout spelled in C: the copy below relies on it.
 static_assert(sizeof(cmmcomp_fw_model) == sizeof(Model), "cmmcomp_fw_model is TskModel's layout");

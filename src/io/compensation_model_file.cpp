@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @file Loads a 4- or 5-input model file for the compensator (names and units checked) and
-/// publishes it to an axis.
+/// @file Loads a model file of any served input set for the compensator (names and units
+/// checked against the schema) and publishes it to an axis.
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cstdlib>
@@ -10,44 +10,72 @@ namespace cmmcomp::io {
 
 namespace {
 
-template <typename File>
-void require_paper_names(const File& file, const std::string& source) {
-  File expected;
-  set_paper_names(expected);
-  const auto check = [&source](const auto& got, const auto& want, const char* what) {
-    for (std::size_t k = 0; k < want.size(); ++k) {
-      if (got[k] != want[k]) {
-        throw ConfigError(source + ": " + what + " " + std::to_string(k) + " is '" + got[k] +
-                          "'; the compensator feeds '" + want[k] + "' there");
-      }
-    }
+/// "4 x 3 x 4 (PV, PD, AV, AD) or 5 x 3 x 4 (PV, PD, AV, AD, Y)".
+template <typename... Sets>
+std::string served_architectures(InputSetList<Sets...> /*unused*/) {
+  std::string s;
+  const auto one = [&s](auto set) {
+    using Inputs = decltype(set);
+    if (!s.empty()) s += " or ";
+    s += std::to_string(Inputs::kCount) + " x " + std::to_string(compensation::kSetsPerInput) +
+         " x " + std::to_string(compensation::kModelOutputs) + " (";
+    const auto labels = Inputs::labels();
+    for (std::size_t i = 0; i < labels.size(); ++i)
+      s += (i == 0 ? "" : ", ") + std::string(labels[i]);
+    s += ")";
   };
-  check(file.input_names, expected.input_names, "input");
-  check(file.input_units, expected.input_units, "unit of input");
-  check(file.output_names, expected.output_names, "output");
-  check(file.output_units, expected.output_units, "unit of output");
+  (one(Sets{}), ...);
+  return s;
 }
 
-template <typename File>
-CompensationModelFile checked(File file, const std::string& source) {
-  require_paper_names(file, source);
-  return CompensationModelFile{std::move(file)};
+/// The first served set (in ServedInputSets order) of `a`'s size whose names the file has;
+/// the problem with the first set of that size if none has them.
+template <typename Set, typename... Rest>
+bool parse_as(const std::string& text,
+              const std::string& source,
+              const ModelArchitecture& a,
+              CompensationModelFile& out,
+              std::string& first_problem) {
+  if (a.inputs == Set::kCount && a.sets_per_input == compensation::kSetsPerInput &&
+      a.outputs == compensation::kModelOutputs) {
+    auto file =
+        parse_model_json<Set::kCount, compensation::kSetsPerInput, compensation::kModelOutputs>(
+            text, source);
+    std::string problem = schema_name_problem<Set>(file);
+    if (problem.empty()) {
+      out.template emplace<ModelFileOf<Set>>(std::move(file));
+      return true;
+    }
+    if (first_problem.empty()) first_problem = std::move(problem);
+  }
+  if constexpr (sizeof...(Rest) > 0) {
+    return parse_as<Rest...>(text, source, a, out, first_problem);
+  } else {
+    return false;
+  }
+}
+
+template <typename... Sets>
+bool parse_served(const std::string& text,
+                  const std::string& source,
+                  const ModelArchitecture& a,
+                  CompensationModelFile& out,
+                  std::string& first_problem,
+                  InputSetList<Sets...> /*unused*/) {
+  return parse_as<Sets...>(text, source, a, out, first_problem);
 }
 
 }  // namespace
 
 CompensationModelFile parse_compensation_model(const std::string& text, const std::string& source) {
   const ModelArchitecture a = read_model_architecture(text, source);
-  if (a.sets_per_input == 3 && a.outputs == 4 && a.inputs == 5) {
-    return checked(parse_model_json<5, 3, 4>(text, source), source);
-  }
-  if (a.sets_per_input == 3 && a.outputs == 4 && a.inputs == 4) {
-    return checked(parse_model_json<4, 3, 4>(text, source), source);
-  }
+  CompensationModelFile file;
+  std::string problem;
+  if (parse_served(text, source, a, file, problem, ServedInputSets{})) return file;
+  if (!problem.empty()) throw ConfigError(source + ": " + problem);
   throw ConfigError(source + ": architecture " + std::to_string(a.inputs) + " inputs x " +
                     std::to_string(a.sets_per_input) + " sets x " + std::to_string(a.outputs) +
-                    " outputs; the compensator serves 4 x 3 x 4 (PV, PD, AV, AD) or 5 x 3 x 4 "
-                    "(PV, PD, AV, AD, Y)");
+                    " outputs; the compensator serves " + served_architectures(ServedInputSets{}));
 }
 
 CompensationModelFile load_compensation_model(const std::string& path) {
@@ -63,7 +91,8 @@ std::uint64_t numeric_model_id(const CompensationModelFile& file) {
 }
 
 int model_inputs(const CompensationModelFile& file) {
-  return std::holds_alternative<PaperModelFileY>(file) ? 5 : 4;
+  return std::visit([](const auto& f) { return std::decay_t<decltype(f)>::InputSet::kCount; },
+                    file);
 }
 
 Status publish(compensation::MoveCompensator& compensator,
@@ -71,8 +100,9 @@ Status publish(compensation::MoveCompensator& compensator,
                const CompensationModelFile& file,
                std::string* why) {
   const std::uint64_t id = numeric_model_id(file);
-  return std::visit([&](const auto& f) { return compensator.publish(axis, f.model, id, why); },
-                    file);
+  return std::visit(
+      [&](const auto& f) { return compensator.publish(axis, f.compensation_model(), id, why); },
+      file);
 }
 
 }  // namespace cmmcomp::io

@@ -14,18 +14,15 @@
 namespace cmmcomp::io {
 namespace {
 
-double DatasetRow::*const kFields[] = {&DatasetRow::pv_mm_s,
-                                       &DatasetRow::pd_mm,
-                                       &DatasetRow::av_mm_s,
-                                       &DatasetRow::ad_mm,
-                                       &DatasetRow::pa_mm_s2,
-                                       &DatasetRow::aa_mm_s2,
-                                       &DatasetRow::y_mm,
-                                       &DatasetRow::mpe_um,
-                                       &DatasetRow::rpe_um,
-                                       &DatasetRow::mae_um,
-                                       &DatasetRow::rae_um};
-static_assert(std::size(kFields) == kDatasetColumns.size());
+/// "pv_mm_s,pd_mm,…,rae_um": the header the writer writes.
+std::string header_line() {
+  std::string s;
+  for (const DatasetColumn& c : kDatasetColumns) {
+    if (!s.empty()) s += ',';
+    s += c.name;
+  }
+  return s;
+}
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
@@ -45,7 +42,7 @@ std::vector<std::string> split(const std::string& line) {
 
 /// Why `v` may not stand in column `f`, or an empty string.
 std::string range_problem(std::size_t f, double v) {
-  const DatasetColumnRange& r = kDatasetRanges[f];
+  const DatasetColumnRange& r = kDatasetColumns[f].range;
   if (!std::isfinite(v)) return "is not finite";
   const bool low = r.min_exclusive ? !(v > r.min) : !(v >= r.min);
   if (!low && v <= r.max) return {};
@@ -73,19 +70,18 @@ std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::st
     const std::vector<std::string> cells = split(t);
     if (column_of_field.empty()) {
       header_cells = cells.size();
-      for (const char* name : kDatasetColumns) {
+      for (const DatasetColumn& column : kDatasetColumns) {
         int found = -1;
         for (std::size_t i = 0; i < cells.size(); ++i) {
-          if (cells[i] == name) found = static_cast<int>(i);
+          if (cells[i] == column.name) found = static_cast<int>(i);
         }
         if (found < 0) {
           throw ConfigError(
-              fmt::format("{}:{}: missing column '{}' (the header must name all of: "
-                          "pv_mm_s,pd_mm,av_mm_s,ad_mm,pa_mm_s2,aa_mm_s2,y_mm,"
-                          "mpe_um,rpe_um,mae_um,rae_um)",
+              fmt::format("{}:{}: missing column '{}' (the header must name all of: {})",
                           source,
                           line_no,
-                          name));
+                          column.name,
+                          header_line()));
         }
         column_of_field.push_back(found);
       }
@@ -112,15 +108,22 @@ std::vector<DatasetRow> parse_dataset_csv(const std::string& text, const std::st
       // same. An overflow gives ±HUGE_VAL.
       const bool overflow = errno == ERANGE && std::isinf(v);
       if (cell.empty() || end != cell.c_str() + cell.size() || overflow) {
-        throw ConfigError(fmt::format(
-            "{}:{}: column '{}': '{}' is not a number", source, line_no, kDatasetColumns[f], cell));
+        throw ConfigError(fmt::format("{}:{}: column '{}': '{}' is not a number",
+                                      source,
+                                      line_no,
+                                      kDatasetColumns[f].name,
+                                      cell));
       }
       const std::string problem = range_problem(f, v);
       if (!problem.empty()) {
-        throw ConfigError(fmt::format(
-            "{}:{}: column '{}': '{}' {}", source, line_no, kDatasetColumns[f], cell, problem));
+        throw ConfigError(fmt::format("{}:{}: column '{}': '{}' {}",
+                                      source,
+                                      line_no,
+                                      kDatasetColumns[f].name,
+                                      cell,
+                                      problem));
       }
-      row.*kFields[f] = v;
+      row.*(kDatasetColumns[f].field) = v;
     }
     rows.push_back(row);
   }
@@ -134,26 +137,23 @@ std::vector<DatasetRow> read_dataset_csv(const std::string& path) {
 }
 
 std::string format_dataset_csv(const std::vector<DatasetRow>& rows) {
-  std::string s;
-  for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
-    s += (f ? "," : "");
-    s += kDatasetColumns[f];
-  }
+  std::string s = header_line();
   s += '\n';
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const DatasetRow& r = rows[i];
     for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
-      const std::string problem = range_problem(f, r.*kFields[f]);
+      const std::string problem = range_problem(f, r.*(kDatasetColumns[f].field));
       if (!problem.empty()) {
         throw ConfigError(fmt::format("dataset row {}: column '{}': {} {}",
                                       i + 1,
-                                      kDatasetColumns[f],
-                                      r.*kFields[f],
+                                      kDatasetColumns[f].name,
+                                      r.*(kDatasetColumns[f].field),
                                       problem));
       }
     }
     for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
-      fmt::format_to(std::back_inserter(s), "{}{:.10g}", f ? "," : "", r.*kFields[f]);
+      fmt::format_to(
+          std::back_inserter(s), "{}{:.10g}", f ? "," : "", r.*(kDatasetColumns[f].field));
     }
     s += '\n';
   }

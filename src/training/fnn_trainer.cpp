@@ -603,30 +603,6 @@ FnnTrainingResult<kInputs, kSets, kOutputs> train_fnn(
   return trainer.run();
 }
 
-PaperSamples paper_samples(const std::vector<io::DatasetRow>& rows) {
-  PaperSamples s;
-  s.inputs.reserve(rows.size());
-  s.targets.reserve(rows.size());
-  for (const io::DatasetRow& r : rows) {
-    s.inputs.push_back({r.pv_mm_s, r.pd_mm, r.av_mm_s, r.ad_mm});
-    s.targets.push_back({r.mpe_um, r.rpe_um, r.mae_um, r.rae_um});
-  }
-  return s;
-}
-
-PaperSamplesY paper_samples_with_y(const std::vector<io::DatasetRow>& rows) {
-  PaperSamplesY s;
-  s.inputs.reserve(rows.size());
-  s.targets.reserve(rows.size());
-  for (const io::DatasetRow& r : rows) {
-    s.inputs.push_back({r.pv_mm_s, r.pd_mm, r.av_mm_s, r.ad_mm, r.y_mm});
-    s.targets.push_back({r.mpe_um, r.rpe_um, r.mae_um, r.rae_um});
-  }
-  return s;
-}
-
-std::vector<std::string> paper_input_names() { return {"PV", "PD", "AV", "AD"}; }
-
 template FnnTrainingResult<5, 3, 4> train_fnn<5, 3, 4>(const std::vector<std::array<double, 5>>&,
                                                        const std::vector<std::array<double, 4>>&,
                                                        const FnnTrainingOptions&);

@@ -95,9 +95,10 @@ map::Result ask(modbus_t* c, const compensation::MoveRequest& m) {
 
 /// What the in-process compensator answers for `m` with `model` (the agent's floats: the
 /// request crosses the wire as f32, the result too).
-compensation::Correction expected(const io::ModelFile<4, 3, 4>& file, compensation::MoveRequest m) {
+compensation::Correction expected(const io::ModelFileOf<PaperInputs>& file,
+                                  compensation::MoveRequest m) {
   compensation::MoveCompensator comp;
-  EXPECT_EQ(comp.publish(0, file.model, 1), Status::kOk);
+  EXPECT_EQ(comp.publish(0, file.compensation_model(), 1), Status::kOk);
   for (double* v :
        {&m.pv_mm_s, &m.pa_mm_s2, &m.pd_mm, &m.av_mm_s, &m.aa_mm_s2, &m.ad_mm, &m.y_mm, &m.z_mm}) {
     *v = static_cast<double>(static_cast<float>(*v));
@@ -151,7 +152,7 @@ TEST(Agent, SighupReloadsAndABadFileKeepsTheOldModelServing) {
   for (int j = 0; j < 81; ++j) b.model.params.consequent(3, j, 0) += 1.5;  // RAE + 1.5 µm
   const auto path = scratch("model.json").string();
   io::save_model_file(path, a);
-  a = io::load_model_file<4, 3, 4>(path);
+  a = io::load_model_file_of<PaperInputs>(path);
 
   RunningAgent agent = start_agent({"--model", "0=" + path});
   ASSERT_TRUE(agent.process);
@@ -161,7 +162,7 @@ TEST(Agent, SighupReloadsAndABadFileKeepsTheOldModelServing) {
   expect_same(r, expected(a, probing_move(1)));
 
   io::save_model_file(path, b);
-  b = io::load_model_file<4, 3, 4>(path);
+  b = io::load_model_file_of<PaperInputs>(path);
   agent.process->signal(SIGHUP);
   ASSERT_TRUE(agent.process->wait_for_output("reloaded model " + b.model_id, 5s))
       << agent.process->output();

@@ -7,7 +7,7 @@
 int main() {
   namespace cm = cmmcomp::compensation;
   cm::MoveCompensator comp;
-  cm::MoveCompensator::Model model;
+  cm::Model<cmmcomp::PaperInputs> model;
   for (auto& r : model.ranges) r = cmmcomp::fuzzy::InputRange{0.5, 100.0};
   for (int i = 0; i < 4; ++i) {
     for (int s = 0; s < 3; ++s) {
@@ -16,7 +16,7 @@ int main() {
     }
   }
   for (int o = 0; o < 4; ++o) {
-    for (int j = 0; j < cm::MoveCompensator::Model::kRules; ++j) {
+    for (int j = 0; j < cm::Model<cmmcomp::PaperInputs>::kRules; ++j) {
       model.params.consequent(o, j, 0) = o + 1.0;  // RAE = 4 µm everywhere
     }
   }

@@ -4,16 +4,16 @@
 ///   DIR/model_b.json  constant outputs (1, 1, 1, −0.5)
 /// Input ranges: PV [5, 80] mm/s, PD [1, 50] mm, AV [1, 10] mm/s, AD [0.5, 5] mm.
 #include <array>
-#include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/io/compensation_model_file.hpp>
 #include <cstdio>
 #include <exception>
 #include <string>
 
 namespace {
 
-cmmcomp::io::ModelFile<4, 3, 4> linear_file(const std::array<double, 4>& c,
-                                            const std::array<double, 4>& k) {
-  cmmcomp::io::ModelFile<4, 3, 4> f;
+cmmcomp::io::ModelFileOf<cmmcomp::PaperInputs> linear_file(const std::array<double, 4>& c,
+                                                           const std::array<double, 4>& k) {
+  cmmcomp::io::ModelFileOf<cmmcomp::PaperInputs> f;  // the schema's names and units
   auto& m = f.model;
   m.ranges = {cmmcomp::fuzzy::InputRange{5.0, 80.0},
               cmmcomp::fuzzy::InputRange{1.0, 50.0},
@@ -31,7 +31,6 @@ cmmcomp::io::ModelFile<4, 3, 4> linear_file(const std::array<double, 4>& c,
       m.params.consequent(o, j, 1) = k[static_cast<unsigned>(o)];
     }
   }
-  cmmcomp::io::set_paper_names(f);
   f.training.method = "hand-built test model";
   f.training.cv_rmse = {0.0, 0.0, 0.0, 0.0};
   f.training.trained_at = "2026-01-01T00:00:00Z";

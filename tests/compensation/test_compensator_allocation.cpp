@@ -16,7 +16,7 @@ namespace cmmcomp::compensation {
 namespace {
 
 // Output o = (o + 1) + 0.25·o·x̂_PD everywhere.
-MoveCompensator::Model flat_model() {
+Model<PaperInputs> flat_model() {
   return test::linear_model({1.0, 2.0, 3.0, 4.0}, {0.0, 0.25, 0.5, 0.75}, 2);
 }
 
@@ -51,11 +51,11 @@ TEST(MoveCompensatorRt, BeforeApproachDoesNotAllocate) {
   EXPECT_EQ(failures, 0u);
 }
 
-StaticMoveCompensator<MoveCompensator::Model> g_static;
+StaticMoveCompensator<Model<PaperInputs>> g_static;
 
 TEST(StaticMoveCompensatorRt, NeitherPublishNorBeforeApproachAllocates) {
-  const MoveCompensator::Model good = flat_model();
-  MoveCompensator::Model bad = good;
+  const Model<PaperInputs> good = flat_model();
+  Model<PaperInputs> bad = good;
   bad.params.width(0, 0) = -1.0;
   Correction out;
   std::size_t failures = 0;

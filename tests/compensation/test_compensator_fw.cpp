@@ -20,7 +20,7 @@ extern "C" const uint64_t default_model_c_id;
 
 namespace {
 
-using ModelF = cmmcomp::fuzzy::TskModel<float, 4, 3, 4>;
+using ModelF = cmmcomp::compensation::Model<cmmcomp::PaperInputs, float>;
 cmmcomp::compensation::StaticMoveCompensator<ModelF> g_reference;
 
 cmmcomp_move_request random_request(std::mt19937_64& rng) {

@@ -21,7 +21,7 @@
 namespace cmmcomp::compensation {
 namespace {
 
-using Model = MoveCompensator::Model;
+using Model = compensation::Model<PaperInputs>;
 
 using test::linear_model;
 

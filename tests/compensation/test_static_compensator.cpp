@@ -21,7 +21,8 @@
 namespace cmmcomp::compensation {
 namespace {
 
-using Model = CompensationModel;
+using Model = compensation::Model<PaperInputs>;
+using ModelY = compensation::Model<CarriageInputs>;
 using test::linear_model;
 using test::linear_model_y;
 
@@ -49,11 +50,11 @@ bool same(const Correction& a, const Correction& b) {
 
 // Large enough for a static; tests place compensators in static storage as firmware does.
 StaticMoveCompensator<Model> g_four;
-StaticMoveCompensator<CompensationModelY> g_five;
+StaticMoveCompensator<ModelY> g_five;
 
 TEST(StaticMoveCompensator, AnswersExactlyAsMoveCompensator) {
   const Model m4 = linear_model({1.0, -2.0, 3.0, 0.5}, {4.0, 1.0, -1.0, 2.0}, 2);
-  const CompensationModelY m5 = linear_model_y({0.5, 1.0, -0.5, 0.25}, {1.0, 2.0, 3.0, -4.0});
+  const ModelY m5 = linear_model_y({0.5, 1.0, -0.5, 0.25}, {1.0, 2.0, 3.0, -4.0});
   MoveCompensator hosted4;
   MoveCompensator hosted5;
   for (int axis = 0; axis < kMaxAxes; ++axis) {
@@ -137,7 +138,7 @@ TEST(StaticMoveCompensator, ARefusedModelKeepsTheOldOneServing) {
 
 TEST(StaticMoveCompensator, ServesAFloatModelWithinAMicronThousandth) {
   const Model m = linear_model({1.5, -2.25, 3.0, 0.75}, {4.0, 1.0, -1.0, 2.0}, 1);
-  static StaticMoveCompensator<fuzzy::TskModel<float, 4, 3, 4>> c32;
+  static StaticMoveCompensator<compensation::Model<PaperInputs, float>> c32;
   MoveCompensator c64;
   ASSERT_EQ(c32.publish(0, fuzzy::convert_model<float>(m), 5), Status::kOk);
   ASSERT_EQ(c64.publish(0, m, 5), Status::kOk);

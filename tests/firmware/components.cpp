@@ -13,8 +13,8 @@
 #include "default.hpp"
 
 namespace {
-using ModelF = cmmcomp::fuzzy::TskModel<float, 4, 3, 4>;
-[[maybe_unused]] constexpr ModelF kDefaultF = cmmcomp::fuzzy::convert_model<float>(default_model);
+using ModelF = cmmcomp::compensation::Model<cmmcomp::PaperInputs, float>;
+[[maybe_unused]] constexpr ModelF kDefaultF{cmmcomp::fuzzy::convert_model<float>(default_model)};
 }  // namespace
 
 extern "C" {
@@ -40,7 +40,8 @@ int cmmcomp_fw_evaluate_float(const double x[4], double y[4]) {
 
 #elif defined(CMMCOMP_FW_COMPONENT_COMPENSATOR_DOUBLE)
 namespace {
-cmmcomp::compensation::StaticMoveCompensator<cmmcomp::fuzzy::PaperMultiNetwork> g_comp_d;
+cmmcomp::compensation::StaticMoveCompensator<cmmcomp::compensation::Model<cmmcomp::PaperInputs> >
+    g_comp_d;
 }
 int cmmcomp_fw_publish_double(int axis) {
   return static_cast<int>(g_comp_d.publish(axis, default_model, 1));

@@ -15,9 +15,9 @@ namespace {
 using cmmcomp::Status;
 using cmmcomp::compensation::Correction;
 using cmmcomp::compensation::MoveRequest;
-using Model = cmmcomp::fuzzy::TskModel<float, 4, 3, 4>;
+using Model = cmmcomp::compensation::Model<cmmcomp::PaperInputs, float>;
 
-constexpr Model kModelA = cmmcomp::fuzzy::convert_model<float>(default_model);
+constexpr Model kModelA{cmmcomp::fuzzy::convert_model<float>(default_model)};
 // Model B: A with 1 µm added to every rule's constant term of every output. The normalised
 // firing strengths sum to 1, so B answers A + 1 µm (up to rounding): a clearly different model.
 constexpr Model kModelB = [] {

@@ -17,8 +17,8 @@ namespace {
 // Keeps the compiler from eliding an allocation whose result is otherwise unused.
 void escape(const void* p) { asm volatile("" : : "g"(p) : "memory"); }
 
-PaperMultiNetwork random_model(std::mt19937_64& rng) {
-  PaperMultiNetwork m;
+TskModel<double, 4, 3, 4> random_model(std::mt19937_64& rng) {
+  TskModel<double, 4, 3, 4> m;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (auto& r : m.ranges) r = InputRange{0.0, 1.0 + unit(rng)};
   for (int i = 0; i < 4; ++i) {
@@ -27,7 +27,8 @@ PaperMultiNetwork random_model(std::mt19937_64& rng) {
       m.params.width(i, s) = 0.2 + 0.3 * unit(rng);
     }
   }
-  for (int k = PaperMultiNetwork::Params::kConsequentsOffset; k < PaperMultiNetwork::kParamCount;
+  for (int k = TskModel<double, 4, 3, 4>::Params::kConsequentsOffset;
+       k < TskModel<double, 4, 3, 4>::kParamCount;
        ++k) {
     m.params.values[static_cast<unsigned>(k)] = unit(rng) - 0.5;
   }
@@ -69,7 +70,7 @@ TEST(AllocationCounter, CountsNothingOutsideItsScope) {
 
 TEST(TskEvaluatorRt, EvaluateDoesNotAllocate) {
   std::mt19937_64 rng(test::seed());
-  const PaperMultiNetwork model = random_model(rng);
+  const TskModel<double, 4, 3, 4> model = random_model(rng);
   TskModel<float, 4, 3, 4> model_f;
   model_f.ranges = model.ranges;
   for (std::size_t k = 0; k < model.params.values.size(); ++k) {

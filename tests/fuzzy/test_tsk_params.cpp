@@ -22,7 +22,7 @@ TEST(TskLayout, PaperCountsAreCompileTimeConstants) {
   static_assert(TskLayout<2, 5, 3>::kRules == 25);
   static_assert(TskLayout<2, 5, 3>::kParamCount == 2 * 2 * 5 + 3 * 25 * 3);
   static_assert(PaperNetwork::kParamCount == 429);
-  static_assert(PaperMultiNetwork::kRules == 81);
+  static_assert(TskModel<double, 4, 3, 4>::kRules == 81);
   static_assert(std::tuple_size_v<decltype(PaperNetwork::Params::values)> == 429);
   SUCCEED();
 }

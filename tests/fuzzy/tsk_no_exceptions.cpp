@@ -7,7 +7,7 @@
 
 int main() {
   namespace fz = cmmcomp::fuzzy;
-  fz::PaperMultiNetwork model;
+  fz::TskModel<double, 4, 3, 4> model;
   for (auto& r : model.ranges) r = fz::InputRange{0.0, 2.0};
   for (int i = 0; i < 4; ++i) {
     for (int s = 0; s < 3; ++s) {
@@ -17,7 +17,7 @@ int main() {
   }
   // Every rule's consequent is y_o = o + 1: the output is o + 1 wherever it is evaluated.
   for (int o = 0; o < 4; ++o) {
-    for (int j = 0; j < fz::PaperMultiNetwork::kRules; ++j) {
+    for (int j = 0; j < fz::TskModel<double, 4, 3, 4>::kRules; ++j) {
       model.params.consequent(o, j, 0) = o + 1.0;
     }
   }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @file Loading a model file for the compensator: either architecture, names checked.
+/// @file Loading a model file for the compensator: any served input set, names checked.
 #include <gtest/gtest.h>
 
 #include <cmmcomp/error.hpp>
@@ -13,10 +13,9 @@
 namespace cmmcomp::io {
 namespace {
 
-PaperModelFileY five_input_file() {
-  PaperModelFileY f;
+ModelFileOf<CarriageInputs> five_input_file() {
+  ModelFileOf<CarriageInputs> f;
   f.model = test::linear_model_y({1, 2, 3, 4}, {0, 0, 0, 1});
-  set_paper_names(f);
   f.training.method = "test";
   f.training.tool_version = "test";
   f.training.cv_rmse = {0, 0, 0, 0};
@@ -33,11 +32,25 @@ std::string error_of(const std::string& text) {
   return "";
 }
 
-TEST(CompensationModelFile, ParsesEitherArchitecture) {
+TEST(CompensationModelFile, NamesAndUnitsComeFromTheSchema) {
+  const ModelFileOf<CarriageInputs> f;
+  ASSERT_EQ(f.input_names.size(), 5u);
+  EXPECT_EQ(f.input_names[0], "pv_mm_s");
+  EXPECT_EQ(f.input_names[4], "y_mm");
+  EXPECT_EQ(f.input_units[2], "mm/s");
+  EXPECT_EQ(f.output_names[3], "rae_um");
+  EXPECT_EQ(f.output_units[0], "um");
+  EXPECT_EQ(schema_name_problem<CarriageInputs>(f), "");
+  EXPECT_EQ(schema_name_problem<PaperInputs>(ModelFileOf<PaperInputs>()), "");
+}
+
+TEST(CompensationModelFile, ParsesEveryServedInputSet) {
   const auto four = parse_compensation_model(format_model_json(default_model_file()), "d.json");
+  EXPECT_TRUE(std::holds_alternative<ModelFileOf<PaperInputs>>(four));
   EXPECT_EQ(model_inputs(four), 4);
   EXPECT_EQ(model_id(four), default_model_file().model_id);
   const auto five = parse_compensation_model(format_model_json(five_input_file()), "y.json");
+  EXPECT_TRUE(std::holds_alternative<ModelFileOf<CarriageInputs>>(five));
   EXPECT_EQ(model_inputs(five), 5);
   EXPECT_EQ(numeric_model_id(five), std::stoull(model_id(five), nullptr, 16));
 
@@ -48,7 +61,7 @@ TEST(CompensationModelFile, ParsesEitherArchitecture) {
 }
 
 TEST(CompensationModelFile, RefusesNamesTheCompensatorDoesNotFeed) {
-  PaperModelFileY f = five_input_file();
+  ModelFileOf<CarriageInputs> f = five_input_file();
   f.input_names[4] = "z_mm";
   EXPECT_NE(error_of(format_model_json(f))
                 .find("m.json: input 4 is 'z_mm'; the compensator "
@@ -66,8 +79,8 @@ TEST(CompensationModelFile, RefusesOtherArchitecturesSayingWhichItServes) {
   for (int i = 0; i < 4; ++i) {
     for (int s = 0; s < 3; ++s) single.model.params.width(i, s) = 0.5;
   }
-  single.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
-  single.input_units = {"mm/s", "mm", "mm/s", "mm"};
+  single.input_names = ModelFileOf<PaperInputs>().input_names;
+  single.input_units = ModelFileOf<PaperInputs>().input_units;
   single.output_names = {"rae_um"};
   single.output_units = {"um"};
   single.training.method = "test";
@@ -76,7 +89,9 @@ TEST(CompensationModelFile, RefusesOtherArchitecturesSayingWhichItServes) {
   single.training.trained_at = "2026-11-23T00:00:00Z";
   const std::string e = error_of(format_model_json(single));
   EXPECT_NE(e.find("architecture 4 inputs x 3 sets x 1 outputs"), std::string::npos) << e;
-  EXPECT_NE(e.find("serves 4 x 3 x 4"), std::string::npos) << e;
+  EXPECT_NE(e.find("serves 4 x 3 x 4 (PV, PD, AV, AD) or 5 x 3 x 4 (PV, PD, AV, AD, Y)"),
+            std::string::npos)
+      << e;
   EXPECT_NE(error_of("{not json").find("m.json"), std::string::npos);
 }
 

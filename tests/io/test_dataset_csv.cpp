@@ -83,8 +83,8 @@ TEST(DatasetCsv, HostileButValidAndInvalidCells) {
   }
 }
 
-// The ranges in the code are the ones the document lists.
-TEST(DatasetCsv, RangesAreTheDocumentedOnes) {
+// The columns in schema.hpp are the ones the document lists, in its order, with its ranges.
+TEST(DatasetCsv, ColumnsAndRangesAreTheDocumentedOnes) {
   const std::string doc = read_file_bounded(
       std::string(CMMCOMP_DOCS_DIR) + "/dataset-csv.md", "document", kMaxTextFileBytes);
   const auto number = [](double v) {
@@ -92,13 +92,16 @@ TEST(DatasetCsv, RangesAreTheDocumentedOnes) {
     o << v;
     return o.str();
   };
-  for (std::size_t f = 0; f < kDatasetColumns.size(); ++f) {
-    const DatasetColumnRange& r = kDatasetRanges[f];
+  std::size_t previous = 0;
+  for (const DatasetColumn& column : kDatasetColumns) {
+    const DatasetColumnRange& r = column.range;
     const std::string cell =
         std::string(r.min_exclusive ? "(" : "[") + number(r.min) + " .. " + number(r.max) + "] |\n";
-    const std::string head = std::string("| `") + kDatasetColumns[f] + "` |";
+    const std::string head = std::string("| `") + column.name + "` |";
     const std::size_t at = doc.find(head);
     ASSERT_NE(at, std::string::npos) << head;
+    EXPECT_GT(at, previous) << column.name << " is out of the document's order";
+    previous = at;
     const std::string line = doc.substr(at, doc.find('\n', at) + 1 - at);
     EXPECT_GE(line.size(), cell.size());
     EXPECT_EQ(line.substr(line.size() - cell.size()), cell) << line;

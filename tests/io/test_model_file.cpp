@@ -236,7 +236,7 @@ void round_trip_random(int count) {
   }
 }
 
-TEST(ModelFile, RoundTripIsBitIdenticalPaperMultiNetwork) {
+TEST(ModelFile, RoundTripIsBitIdenticalFourOutputNetwork) {
   round_trip_random<4, 3, 4>(test::soak_count(20));
 }
 TEST(ModelFile, RoundTripIsBitIdenticalPaperNetwork) {

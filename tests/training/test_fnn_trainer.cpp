@@ -466,7 +466,7 @@ TEST(FnnTrainer, RejectsDegenerateInputNamingIt) {
   }
   const Rows<1> y(10, {1.0});
   FnnTrainingOptions options;
-  options.input_names = paper_input_names();
+  options.input_names = input_labels<PaperInputs>();
   const std::string m = message_of([&] { train_fnn<4, 3, 1>(x, y, options); });
   EXPECT_NE(m.find("input 'AV' is constant"), std::string::npos) << m;
   options.input_names.clear();
@@ -517,8 +517,8 @@ TEST(FnnTrainingOptions, ValidatesEveryField) {
 
 // --- Dataset rows and the paper's sizes ------------------------------------------------------
 
-TEST(FnnTrainer, PaperSamplesFromDatasetRows) {
-  io::DatasetRow r;
+TEST(FnnTrainer, SamplesFromDatasetRowsFollowTheInputSet) {
+  DatasetRow r;
   r.pv_mm_s = 1;
   r.pd_mm = 2;
   r.av_mm_s = 3;
@@ -527,10 +527,17 @@ TEST(FnnTrainer, PaperSamplesFromDatasetRows) {
   r.rpe_um = -6;
   r.mae_um = 7;
   r.rae_um = -8;
-  const PaperSamples s = paper_samples({r, r});
+  r.y_mm = 9;
+  const Samples<4> s = samples<PaperInputs>({r, r});
   ASSERT_EQ(s.inputs.size(), 2u);
   EXPECT_EQ(s.inputs[1], (std::array<double, 4>{1, 2, 3, 4}));
   EXPECT_EQ(s.targets[0], (std::array<double, 4>{5, -6, 7, -8}));
+  const Samples<5> y = samples<CarriageInputs>({r});
+  EXPECT_EQ(y.inputs[0], (std::array<double, 5>{1, 2, 3, 4, 9}));
+  const Samples<2> other = samples<InputSet<Feature::kY, Feature::kAv>>({r});
+  EXPECT_EQ(other.inputs[0], (std::array<double, 2>{9, 3}));
+  EXPECT_EQ(input_labels<CarriageInputs>(),
+            (std::vector<std::string>{"PV", "PD", "AV", "AD", "Y"}));
   EXPECT_STREQ(to_string(FnnMethod::kGradientDescent), "gradient-descent");
 }
 

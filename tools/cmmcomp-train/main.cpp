@@ -5,13 +5,16 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/paper_reference.hpp>
+#include <cmmcomp/schema.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
@@ -25,25 +28,18 @@
 
 namespace {
 
-/// The trainer's input set: the paper's (PV, PD, AV, AD) or with the carriage position Y.
-template <int kInputs>
-struct InputSet;
-template <>
-struct InputSet<4> {
-  static cmmcomp::training::PaperSamples samples(const std::vector<cmmcomp::io::DatasetRow>& r) {
-    return cmmcomp::training::paper_samples(r);
+/// The --inputs value of `Inputs`: its labels in lower case, comma separated ("pv,pd,av,ad").
+template <typename Inputs>
+std::string inputs_option(Inputs /*set*/ = {}) {
+  std::string s;
+  for (const char* label : Inputs::labels()) {
+    if (!s.empty()) s += ',';
+    for (const char* c = label; *c != '\0'; ++c) {
+      s += static_cast<char>(std::tolower(static_cast<unsigned char>(*c)));
+    }
   }
-  static std::vector<std::string> names() { return cmmcomp::training::paper_input_names(); }
-};
-template <>
-struct InputSet<5> {
-  static cmmcomp::training::PaperSamplesY samples(const std::vector<cmmcomp::io::DatasetRow>& r) {
-    return cmmcomp::training::paper_samples_with_y(r);
-  }
-  static std::vector<std::string> names() { return {"PV", "PD", "AV", "AD", "Y"}; }
-};
-
-constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
+  return s;
+}
 
 struct FitCommand {
   std::string data, output, method = "lm";
@@ -51,18 +47,19 @@ struct FitCommand {
   std::uint64_t seed = 1;
   double lambda = -1;
   int max_iterations = cmmcomp::training::FnnTrainingOptions{}.max_iterations;
-  std::string inputs = "pv,pd,av,ad";
+  std::string inputs = inputs_option<cmmcomp::PaperInputs>();
 };
 
-template <int kInputs>
+template <typename Inputs>
 int run_fit(const FitCommand& cmd) {
+  constexpr int kInputs = Inputs::kCount;
   using namespace cmmcomp::training;
   const auto rows = cmmcomp::io::read_dataset_csv(cmd.data);
   if (rows.size() < static_cast<std::size_t>(cmd.folds)) {
     throw cmmcomp::ConfigError(
         fmt::format("{}: {} samples, fewer than the {} folds", cmd.data, rows.size(), cmd.folds));
   }
-  const auto samples = InputSet<kInputs>::samples(rows);
+  const auto samples = cmmcomp::training::samples<Inputs>(rows);
   FnnTrainingOptions options;
   options.method =
       cmd.method == "gd" ? FnnMethod::kGradientDescent : FnnMethod::kLevenbergMarquardt;
@@ -70,7 +67,7 @@ int run_fit(const FitCommand& cmd) {
   options.seed = cmd.seed;
   options.lambda = cmd.lambda;
   options.max_iterations = cmd.max_iterations;
-  options.input_names = InputSet<kInputs>::names();
+  options.input_names = input_labels<Inputs>();
   if (isatty(fileno(stderr)) != 0) {
     options.progress = [](int iteration, double cost) {
       std::fprintf(stderr, "\riteration %4d  cost %.6g", iteration, cost);
@@ -93,15 +90,14 @@ int run_fit(const FitCommand& cmd) {
               s.final_cost);
   std::printf("%-6s %14s %14s\n", "", "train RMSE um", "CV RMSE um");
   for (std::size_t o = 0; o < 4; ++o) {
-    std::printf("%-6s %14.4f %14.4f\n", kParamNames[o], s.train_rmse[o], s.cv_rmse[o]);
+    std::printf("%-6s %14.4f %14.4f\n", cmmcomp::kErrors[o].label, s.train_rmse[o], s.cv_rmse[o]);
   }
   if (!s.usable()) {
     std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n", s.message.c_str());
     return 1;
   }
-  cmmcomp::io::ModelFile<kInputs, 3, 4> file;
+  cmmcomp::io::ModelFileOf<Inputs> file;
   file.model = result.model;
-  cmmcomp::io::set_paper_names(file);
   file.training.data_file_sha256 = cmmcomp::io::sha256_file_hex(cmd.data);
   file.training.method = to_string(s.method);
   file.training.lambda = s.lambda;
@@ -119,14 +115,14 @@ struct Table5Row {
   double mean_before = 0, mean_after = 0, reduction_pct = 0, var_after = 0, max_abs = 0;
 };
 
-template <int kInputs>
-int run_eval(const std::string& model_path,
+template <typename Inputs>
+int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
              const std::string& data,
              bool json,
              const std::string& plot) {
-  const auto file = cmmcomp::io::load_model_file<kInputs, 3, 4>(model_path);
+  constexpr int kInputs = Inputs::kCount;
   const auto rows = cmmcomp::io::read_dataset_csv(data);
-  const auto samples = InputSet<kInputs>::samples(rows);
+  const auto samples = cmmcomp::training::samples<Inputs>(rows);
   const std::size_t n = rows.size();
   std::array<std::vector<double>, 4> measured, predicted;
   std::size_t outside = 0;
@@ -163,13 +159,12 @@ int run_eval(const std::string& model_path,
   }
   if (json) {
     nlohmann::json j;
-    const char* keys[4] = {"mpe", "rpe", "mae", "rae"};
     for (std::size_t o = 0; o < 4; ++o) {
-      j[keys[o]] = {{"mean_before_um", t[o].mean_before},
-                    {"mean_after_um", t[o].mean_after},
-                    {"reduction_pct", t[o].reduction_pct},
-                    {"var_after_um2", t[o].var_after},
-                    {"max_abs_residual_um", t[o].max_abs}};
+      j[cmmcomp::kErrors[o].key] = {{"mean_before_um", t[o].mean_before},
+                                    {"mean_after_um", t[o].mean_after},
+                                    {"reduction_pct", t[o].reduction_pct},
+                                    {"var_after_um2", t[o].var_after},
+                                    {"max_abs_residual_um", t[o].max_abs}};
     }
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -191,7 +186,7 @@ int run_eval(const std::string& model_path,
                 "max |res| um");
     for (std::size_t o = 0; o < 4; ++o) {
       std::printf("%-5s %11.3f (%6.3f) %11.3f (%6.3f) %11.1f (%6.1f) %11.3f (%6.3f) %12.3f\n",
-                  kParamNames[o],
+                  cmmcomp::kErrors[o].label,
                   t[o].mean_before,
                   cmmcomp::paper::kTable5MeanBefore[o],
                   t[o].mean_after,
@@ -225,7 +220,7 @@ int run_eval(const std::string& model_path,
       << " test samples)'\n";
     for (std::size_t o = 0; o < 4; ++o) {
       const std::size_t c = 2 + 3 * o;
-      g << "set title '" << kParamNames[o] << " [um]'\nset xlabel 'sample'\nset grid\n"
+      g << "set title '" << cmmcomp::kErrors[o].label << " [um]'\nset xlabel 'sample'\nset grid\n"
         << "plot '" << dat << "' using 1:" << c
         << " with linespoints title 'measured', '' using 1:" << c + 1
         << " with linespoints title 'predicted', '' using 1:" << c + 2
@@ -264,11 +259,14 @@ int main(int argc, char** argv) {
   fit->add_option("--max-iterations", fit_cmd.max_iterations, "LM iterations")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
+  std::vector<std::string> served_inputs;
+  cmmcomp::for_each_input_set(cmmcomp::ServedInputSets{},
+                              [&](auto set) { served_inputs.push_back(inputs_option(set)); });
   fit->add_option("--inputs",
                   fit_cmd.inputs,
                   "network inputs: pv,pd,av,ad (the paper's, 81 rules) or pv,pd,av,ad,y (with the "
                   "carriage position, 243 rules)")
-      ->check(CLI::IsMember({"pv,pd,av,ad", "pv,pd,av,ad,y"}))
+      ->check(CLI::IsMember(served_inputs))
       ->capture_default_str();
 
   std::string model_path, data_path, plot_path, header_path, symbol = "cmmcomp_model";
@@ -302,16 +300,19 @@ int main(int argc, char** argv) {
   }
   try {
     if (fit->parsed()) {
-      // --inputs is one of the two values CLI11 accepts (IsMember below).
-      return fit_cmd.inputs == "pv,pd,av,ad,y" ? run_fit<5>(fit_cmd) : run_fit<4>(fit_cmd);
+      // --inputs is one of the served sets' values (CLI11 checked it).
+      int rc = 2;
+      cmmcomp::for_each_input_set(cmmcomp::ServedInputSets{}, [&](auto set) {
+        if (fit_cmd.inputs == inputs_option(set)) rc = run_fit<decltype(set)>(fit_cmd);
+      });
+      return rc;
     }
     if (eval->parsed() || exp->parsed()) {
-      // Either architecture the compensator serves; the file says which.
+      // Any input set the compensator serves; the file's names say which.
       const auto any = cmmcomp::io::load_compensation_model(model_path);
-      const int inputs = cmmcomp::io::model_inputs(any);
       if (eval->parsed()) {
-        return inputs == 5 ? run_eval<5>(model_path, data_path, json, plot_path)
-                           : run_eval<4>(model_path, data_path, json, plot_path);
+        return std::visit(
+            [&](const auto& file) { return run_eval(file, data_path, json, plot_path); }, any);
       }
       if (header_path.empty() && c_source_path.empty()) {
         std::fprintf(stderr, "cmmcomp-train export: give --header or --c-source\n");
@@ -325,7 +326,7 @@ int main(int argc, char** argv) {
           },
           any);
       const std::string& path = c_source ? c_source_path : header_path;
-      cmmcomp::io::detail::write_text_file(path, text);
+      cmmcomp::io::write_file_atomically(path, text);
       std::printf("wrote %s (model id %s)\n", path.c_str(), cmmcomp::io::model_id(any).c_str());
       return 0;
     }

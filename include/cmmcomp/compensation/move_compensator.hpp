@@ -2,9 +2,10 @@
 /// @file Per-move compensation: one T-S model per axis, hot-swappable, wait-free to evaluate.
 ///
 /// `MoveCompensator::before_approach` predicts MPE, RPE, MAE and RAE of a probing move with the
-/// paper's 4-input, 3-set network (fuzzy::PaperMultiNetwork, outputs in that order) and returns
-/// the touch-point correction +RAE·d. Everything the RT path needs is allocated in the
-/// constructor; `publish` copies a model into a preallocated buffer.
+/// axis' compensation::Model (a 3-set T-S network keyed on its input set: schema.hpp's
+/// ServedInputSets, the paper's PV, PD, AV, AD or the same with Y) and returns the touch-point
+/// correction +RAE·d. Everything the RT path needs is allocated in the constructor; `publish`
+/// copies a model into a preallocated buffer that holds any one of the served models.
 ///
 /// Hot swap (docs/compensator.md, "Threading"): each axis has two model buffers and one atomic
 /// 64-bit word `state` = (current buffer index << 62) | entries, where `entries` counts the
@@ -23,6 +24,7 @@
 #include <cmmcomp/compensation/move_request.hpp>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cmmcomp/schema.hpp>
 #include <cmmcomp/status.hpp>
 #include <cstdint>
 #include <cstdlib>
@@ -31,17 +33,9 @@
 #include <string>
 #include <thread>
 #include <type_traits>
+#include <variant>
 
 namespace cmmcomp::compensation {
-
-/// The paper's model a MoveCompensator evaluates: inputs (PV [mm/s], PD [mm], AV [mm/s],
-/// AD [mm]), 3 sets each, 81 rules, outputs (MPE, RPE, MAE, RAE) [µm] — what cmmcomp-train
-/// writes by default.
-using CompensationModel = fuzzy::PaperMultiNetwork;
-/// The same with the carriage position as a fifth input (PV, PD, AV, AD, Y [mm]; 243 rules):
-/// the dynamic errors grow with Y (the paper's Table 2), which the 4-input model cannot see.
-/// `cmmcomp-train fit --inputs pv,pd,av,ad,y` writes it.
-using CompensationModelY = fuzzy::TskModel<double, 5, 3, 4>;
 
 /// Options of a MoveCompensator, fixed at construction.
 struct CompensatorOptions {
@@ -62,15 +56,25 @@ struct CompensatorOptions {
   }
 };
 
-/// One model slot per axis; see the file comment for the hot-swap scheme.
-class MoveCompensator {
- public:
-  using Model = CompensationModel;
+/// One model slot per axis serving a model of any of the input sets `Sets` (use MoveCompensator,
+/// which serves schema.hpp's ServedInputSets); see the file comment for the hot-swap scheme.
+template <typename... Sets>
+class BasicMoveCompensator {
+  static_assert(sizeof...(Sets) > 0, "a compensator serves at least one input set");
 
-  /// Allocates every model buffer (about 480 kB: two 4-input and two 5-input models per axis).
-  /// Setup only. Throws ConfigError when `options` is not valid (aborts instead when built
-  /// with -fno-exceptions).
-  explicit MoveCompensator(const CompensatorOptions& options = {})
+ public:
+  /// The model type of each served set.
+  template <typename Inputs>
+  using ModelOf = Model<Inputs, double>;
+
+  /// True when a model of `Inputs` can be published.
+  template <typename Inputs>
+  static constexpr bool kServes = (std::is_same_v<Inputs, Sets> || ...);
+
+  /// Allocates every model buffer (two per axis, each the size of the largest served model:
+  /// about 370 kB for the paper's inputs and the same with Y). Setup only. Throws ConfigError
+  /// when `options` is not valid (aborts instead when built with -fno-exceptions).
+  explicit BasicMoveCompensator(const CompensatorOptions& options = {})
       : options_(options), axes_(std::make_unique<Axis[]>(kMaxAxes)) {
     std::string why;
     if (!options_.is_valid(&why)) {
@@ -81,9 +85,9 @@ class MoveCompensator {
 #endif
     }
   }
-  MoveCompensator(const MoveCompensator&) = delete;
-  MoveCompensator& operator=(const MoveCompensator&) = delete;
-  ~MoveCompensator() = default;
+  BasicMoveCompensator(const BasicMoveCompensator&) = delete;
+  BasicMoveCompensator& operator=(const BasicMoveCompensator&) = delete;
+  ~BasicMoveCompensator() = default;
 
   /// The options given at construction.
   const CompensatorOptions& options() const noexcept { return options_; }
@@ -95,22 +99,18 @@ class MoveCompensator {
   /// RT path never touches). Waits until no before_approach call still uses the buffer it
   /// retires (bounded by one call's duration unless a reader thread is preempted).
   /// Returns kOk; kInvalidInput (`why` set if given) when `axis` is out of range or the model
-  /// is not valid — the model already published keeps serving.
+  /// is not valid — the model already published keeps serving. A model of any served set
+  /// replaces whatever the axis had.
+  template <typename Inputs>
   Status publish(int axis,
-                 const Model& model,
+                 const Model<Inputs, double>& model,
                  std::uint64_t model_id = 0,
                  std::string* why = nullptr) {
-    return publish_impl(axis, model, model_id, why);
-  }
-  /// The same for a model with Y as fifth input; it replaces whatever the axis had.
-  Status publish(int axis,
-                 const CompensationModelY& model,
-                 std::uint64_t model_id = 0,
-                 std::string* why = nullptr) {
+    static_assert(kServes<Inputs>, "this compensator does not serve the model's input set");
     return publish_impl(axis, model, model_id, why);
   }
 
-  /// Inputs of the model last published for `axis`: 4, 5, or 0 when none (or bad axis).
+  /// Number of inputs of the model last published for `axis` (0 when none or bad axis).
   /// RT-safe.
   int model_inputs(int axis) const noexcept {
     if (axis < 0 || axis >= kMaxAxes) return 0;
@@ -133,9 +133,9 @@ class MoveCompensator {
     return axes_[static_cast<std::size_t>(axis)].published_id.load(std::memory_order_relaxed);
   }
 
-  /// Predicts the dynamic errors of `move` with the model of `move.axis` (a 5-input model also
-  /// reads move.y_mm; outside the training ranges: CompensatorOptions::outside_domain) and
-  /// fills `out`: the four errors [µm],
+  /// Predicts the dynamic errors of `move` with the model of `move.axis` (the inputs its set
+  /// names, gathered from `move`; outside the training ranges: CompensatorOptions::outside_domain)
+  /// and fills `out`: the four errors [µm],
   /// correction_um = rae_um·direction, flags, model id and the sequence echo.
   /// RT-safe and wait-free: no allocation, no lock, no syscall, two atomic RMWs; never writes
   /// NaN or inf. `out` is untouched unless ok(status).
@@ -149,12 +149,8 @@ class MoveCompensator {
     const std::uint64_t index = entered >> kIndexShift;
     if (index == kNone) return Status::kNoModel;
     Buffer& b = a.buffers[static_cast<std::size_t>(index)];
-    Model::RawOutput y;
-    const Status s =
-        b.inputs == 5
-            ? fuzzy::evaluate(
-                  b.model_y, model_input<CompensationModelY>(move), y, options_.outside_domain)
-            : fuzzy::evaluate(b.model, model_input<Model>(move), y, options_.outside_domain);
+    std::array<double, kModelOutputs> y;
+    const Status s = evaluate_served(b.model, move, y, options_.outside_domain);
     const std::uint64_t model_id = b.model_id;
     b.exits.fetch_add(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
@@ -166,10 +162,28 @@ class MoveCompensator {
   static constexpr std::uint64_t kCountMask = (std::uint64_t{1} << kIndexShift) - 1;
   static constexpr std::uint64_t kNone = 3;  ///< index value: nothing published
 
+  /// One model of any served set, in place (no heap).
+  using AnyModel = std::variant<Model<Sets, double>...>;
+
+  /// Evaluates the alternative `model` holds. No std::visit: it could throw
+  /// bad_variant_access, which a variant of trivially copyable models never needs.
+  template <std::size_t kIndex = 0>
+  static Status evaluate_served(const AnyModel& model,
+                                const MoveRequest& move,
+                                std::array<double, kModelOutputs>& y,
+                                fuzzy::DomainPolicy policy) noexcept {
+    if constexpr (kIndex < sizeof...(Sets)) {
+      if (const auto* m = std::get_if<kIndex>(&model)) {
+        return fuzzy::evaluate(*m, m->input(move), y, policy);
+      }
+      return evaluate_served<kIndex + 1>(model, move, y, policy);
+    } else {
+      return Status::kNoModel;  // unreachable: a buffer always holds a served model
+    }
+  }
+
   struct Buffer {
-    int inputs = 4;                ///< which of the two models below is valid
-    Model model{};                 ///< inputs == 4
-    CompensationModelY model_y{};  ///< inputs == 5
+    AnyModel model{};
     std::uint64_t model_id = 0;
     std::atomic<std::uint64_t> exits{0};  ///< readers that left this buffer
   };
@@ -180,8 +194,11 @@ class MoveCompensator {
     std::atomic<int> published_inputs{0};        ///< inputs of the last publish (0: none)
   };
 
-  template <typename AnyModel>
-  Status publish_impl(int axis, const AnyModel& model, std::uint64_t model_id, std::string* why) {
+  template <typename Inputs>
+  Status publish_impl(int axis,
+                      const Model<Inputs, double>& model,
+                      std::uint64_t model_id,
+                      std::string* why) {
     if (axis < 0 || axis >= kMaxAxes) {
       if (why != nullptr) *why = "axis out of range";
       return Status::kInvalidInput;
@@ -193,17 +210,11 @@ class MoveCompensator {
     // The buffer not current is free: the previous publish waited for its readers to leave.
     const std::uint64_t next = old_index == 0 ? 1 : 0;
     Buffer& b = a.buffers[next];
-    if constexpr (std::is_same_v<AnyModel, CompensationModelY>) {
-      b.model_y = model;
-      b.inputs = 5;
-    } else {
-      b.model = model;
-      b.inputs = 4;
-    }
+    b.model.template emplace<Model<Inputs, double>>(model);
     b.model_id = model_id;
     b.exits.store(0, std::memory_order_relaxed);
     a.published_id.store(model_id, std::memory_order_relaxed);
-    a.published_inputs.store(b.inputs, std::memory_order_relaxed);
+    a.published_inputs.store(Inputs::kCount, std::memory_order_relaxed);
     const std::uint64_t old = a.state.exchange(next << kIndexShift, std::memory_order_acq_rel);
     const std::uint64_t entered = old & kCountMask;
     if ((old >> kIndexShift) != kNone) {
@@ -219,5 +230,8 @@ class MoveCompensator {
   std::unique_ptr<Axis[]> axes_;  // mutable through the pointer: readers count on atomics
   std::mutex publish_mutex_;
 };
+
+/// The compensator of every input set the project serves (schema.hpp, ServedInputSets).
+using MoveCompensator = apply_input_sets<BasicMoveCompensator, ServedInputSets>::type;
 
 }  // namespace cmmcomp::compensation

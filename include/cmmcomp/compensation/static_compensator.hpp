@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @file The compensator for firmware without an OS: static storage, no heap, no thread, no lock.
 ///
-/// `StaticMoveCompensator<Model>` serves one model type (4 or 5 inputs, double or float: see
-/// fuzzy::convert_model) on up to kMaxAxes axes. It needs nothing but C++17 and lock-free 32-bit
-/// atomics, so it builds with arm-none-eabi-g++ and newlib, -fno-exceptions -fno-rtti, and can
-/// live in .bss (`static StaticMoveCompensator<M> compensator;`). Every member is noexcept and
-/// allocation-free, publish included.
+/// `StaticMoveCompensator<Model>` serves one model type (a compensation::Model of one input
+/// set, double or float: see fuzzy::convert_model) on up to kMaxAxes axes. It needs nothing but
+/// C++17 and lock-free 32-bit atomics, so it builds with arm-none-eabi-g++ and newlib,
+/// -fno-exceptions -fno-rtti, and can live in .bss (`static StaticMoveCompensator<M>
+/// compensator;`). Every member is noexcept and allocation-free, publish included.
 ///
 /// Threading contract (docs/firmware.md, "Hot swap without an OS"): ONE publisher (the main loop
 /// or a low-priority task) and any number of readers that PREEMPT it: interrupt handlers, or
@@ -42,17 +42,21 @@
 
 namespace cmmcomp::compensation {
 
-/// A compensator with static storage for one model type `ModelT` (fuzzy::TskModel with 4 or 5
-/// inputs and the 4 outputs MPE, RPE, MAE, RAE) on `kAxes` axes; see the file comment.
+/// A compensator with static storage for one model type `ModelT` (compensation::Model<Inputs,
+/// Scalar>: the network of one input set with the outputs MPE, RPE, MAE, RAE) on `kAxes` axes;
+/// see the file comment.
 template <typename ModelT, int kAxes = kMaxAxes>
 class StaticMoveCompensator {
-  static_assert(kIsCompensationModel<ModelT>, "a compensation model has 4 or 5 inputs, 4 outputs");
+  static_assert(kIsCompensationModel<ModelT>, "ModelT is a compensation::Model<Inputs, Scalar>");
+  static_assert(sizeof(ModelT) == sizeof(typename ModelT::Network),
+                "a Model is its network: publish copies a network's bytes into it");
   static_assert(kAxes > 0 && kAxes <= kMaxAxes, "MoveRequest::axis selects one of kMaxAxes axes");
   static_assert(std::atomic<std::uint32_t>::is_always_lock_free,
                 "the RT path needs lock-free 32-bit atomics");
 
  public:
   using Model = ModelT;
+  using Network = typename Model::Network;  ///< what an exported model header defines
 
   /// A compensator with no model on any axis; `outside_domain` is what before_approach does
   /// with a move outside the model's training ranges (default kClamp, as MoveCompensator).
@@ -75,14 +79,15 @@ class StaticMoveCompensator {
     return true;
   }
 
-  /// Makes `model` the model of `axis` for every before_approach call that starts after this
+  /// Makes `model` (a network trained on Model::Inputs, e.g. a constexpr exported header's, or
+  /// a Model) the model of `axis` for every before_approach call that starts after this
   /// returns. Publisher only (one at a time; see the threading contract). Copies the model
   /// (sizeof(Model) bytes) into the axis' free buffer: bounded time, no allocation, no wait.
   /// Returns kOk; kInvalidInput when `axis` is out of range or fuzzy::find_problem(model) finds
   /// a problem (`problem`, if given, says which); kBusy when a reader is still inside the free
   /// buffer (the contract is broken). On any error nothing changes: the old model keeps serving.
   Status publish(int axis,
-                 const Model& model,
+                 const Network& model,
                  std::uint64_t model_id = 0,
                  fuzzy::ModelProblem* problem = nullptr) noexcept {
     if (axis < 0 || axis >= kAxes) return Status::kInvalidInput;
@@ -94,7 +99,9 @@ class StaticMoveCompensator {
     const std::uint32_t next = a.current.load(std::memory_order_relaxed) == 1 ? 1 : 0;
     Buffer& b = a.buffers[next];
     if (b.readers.load(std::memory_order_acquire) != 0) return Status::kBusy;
-    b.slot.model = model;
+    // A byte copy of the network into the Model (which is nothing but the network) starts the
+    // member's lifetime, as the trivial copy of publish_bytes does.
+    std::memcpy(static_cast<void*>(&b.slot.model), &model, sizeof(Model));
     b.model_id = model_id;
     published_ = true;
     a.current.store(next + 1, std::memory_order_release);
@@ -153,7 +160,7 @@ class StaticMoveCompensator {
     Buffer& b = a.buffers[current - 1];
     b.readers.fetch_add(1, std::memory_order_acquire);
     typename Model::RawOutput y;
-    const Status s = fuzzy::evaluate(b.slot.model, model_input<Model>(move), y, outside_domain_);
+    const Status s = fuzzy::evaluate(b.slot.model, Model::input(move), y, outside_domain_);
     const std::uint64_t model_id = b.model_id;
     b.readers.fetch_sub(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;

@@ -387,9 +387,8 @@ constexpr TskModel<To, kInputs, kSets, kOutputs> convert_model(
 /// The paper's network: inputs (PV, PD, AV, AD), 3 sets each, 81 rules, one output (429
 /// parameters); one such network per error parameter.
 using PaperNetwork = TskModel<double, 4, 3, 1>;
-/// The paper's premise with one consequent block per error parameter, outputs in the order
-/// (MPE, RPE, MAE, RAE), evaluated in one pass.
-using PaperMultiNetwork = TskModel<double, 4, 3, 4>;
+// The paper's premise with one consequent block per error parameter, evaluated in one pass, is
+// compensation::Model<PaperInputs> (compensation/move_prediction.hpp): keyed on its inputs.
 
 /// Evaluates `model` at raw (unnormalised) inputs `x` into `y`. RT-safe: no allocation, no
 /// exception, bounded branch-light work. `Scalar` (double or float) is the precision of the

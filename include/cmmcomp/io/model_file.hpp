@@ -54,8 +54,8 @@ struct ModelArchitecture {
 };
 
 /// A model file in memory: the network with its ranges, names, units and training metadata.
-/// Any sizes work; the project uses <4,3,4> (PaperMultiNetwork), <4,3,1> (PaperNetwork) and
-/// <5,3,4> (inputs PV, PD, AV, AD, Y; 243 rules).
+/// Any sizes work; a compensation model's file is a ModelFileOf<Inputs>
+/// (compensation_model_file.hpp), which fills the names from the schema.
 template <int kInputs, int kSets, int kOutputs>
 struct ModelFile {
   using Model = fuzzy::TskModel<double, kInputs, kSets, kOutputs>;
@@ -220,22 +220,5 @@ std::string sha256_hex(const std::string& bytes);
 std::string sha256_file_hex(const std::string& path);
 /// The current time as ISO-8601 UTC with whole seconds, `YYYY-MM-DDTHH:MM:SSZ`.
 std::string utc_timestamp_now();
-
-/// Names and units of the paper's network as every tool writes them: inputs PV, PD, AV, AD in the
-/// dataset CSV's columns and units (docs/dataset-csv.md), outputs MPE, RPE, MAE, RAE in µm.
-inline void set_paper_names(ModelFile<4, 3, 4>& file) {
-  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm"};
-  file.input_units = {"mm/s", "mm", "mm/s", "mm"};
-  file.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
-  file.output_units = {"um", "um", "um", "um"};
-}
-
-/// The same with the carriage position as fifth input: y_mm [mm] (dataset CSV column y_mm).
-inline void set_paper_names(ModelFile<5, 3, 4>& file) {
-  file.input_names = {"pv_mm_s", "pd_mm", "av_mm_s", "ad_mm", "y_mm"};
-  file.input_units = {"mm/s", "mm", "mm/s", "mm", "mm"};
-  file.output_names = {"mpe_um", "rpe_um", "mae_um", "rae_um"};
-  file.output_units = {"um", "um", "um", "um"};
-}
 
 }  // namespace cmmcomp::io

@@ -63,14 +63,14 @@
 /// initialisation when the refined parameters are not finite).
 ///
 /// Speed (release preset, shared 2-core machine, 54 samples, default options incl. CV; printed by
-/// the test `FnnTrainer.PaperSizesTiming` in optimised builds): PaperMultiNetwork (4 outputs,
-/// 1644 parameters) 1.7 s; the four PaperNetwork fits 2.3 s together (0.45–0.7 s each). CV
+/// the test `FnnTrainer.PaperSizesTiming` in optimised builds): the paper's inputs with 4 outputs
+/// (1644 parameters) 1.7 s; the four PaperNetwork fits 2.3 s together (0.45–0.7 s each). CV
 /// takes < 10 ms; the Jet Jacobian (~50 ms per LM iteration and network) dominates.
 #pragma once
 
 #include <array>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
-#include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/schema.hpp>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -150,34 +150,40 @@ struct FnnTrainingResult {
 /// options.seed. Throws ConfigError for invalid options, empty data, inputs and targets of
 /// different lengths, a non-finite value, fewer samples than options.folds, or an input whose
 /// min equals its max (named by options.input_names or its index). Explicitly instantiated for
-/// <4,3,4> (PaperMultiNetwork), <4,3,1> (PaperNetwork), and the small test sizes <1,3,1>,
-/// <2,3,1>, <2,3,2>, <2,2,1>.
+/// <4,3,4> (schema.hpp's PaperInputs), <5,3,4> (CarriageInputs), <4,3,1> (one output of the
+/// paper's network), and the small test sizes <1,3,1>, <2,3,1>, <2,3,2>, <2,2,1>.
 template <int kInputs, int kSets, int kOutputs>
 FnnTrainingResult<kInputs, kSets, kOutputs> train_fnn(
     const std::vector<std::array<double, kInputs>>& inputs,
     const std::vector<std::array<double, kOutputs>>& targets,
     const FnnTrainingOptions& options = {});
 
-/// Dataset rows as training samples for the paper's networks.
-struct PaperSamples {
-  std::vector<std::array<double, 4>> inputs;   ///< PV [mm/s], PD [mm], AV [mm/s], AD [mm]
-  std::vector<std::array<double, 4>> targets;  ///< MPE, RPE, MAE, RAE [µm], signed as in the file
+/// Dataset rows as training samples: inputs and the four error parameters as targets.
+template <int kInputs>
+struct Samples {
+  std::vector<std::array<double, kInputs>> inputs;       ///< the input set's features, file units
+  std::vector<std::array<double, kErrorCount>> targets;  ///< MPE, RPE, MAE, RAE [µm], signed
 };
 
-/// Inputs (PV, PD, AV, AD) and targets (MPE, RPE, MAE, RAE) of every row, in file units.
-PaperSamples paper_samples(const std::vector<io::DatasetRow>& rows);
+/// The inputs (`Inputs`, a schema InputSet) and targets of every row, in file units.
+template <typename Inputs>
+Samples<Inputs::kCount> samples(const std::vector<DatasetRow>& rows) {
+  Samples<Inputs::kCount> s;
+  s.inputs.reserve(rows.size());
+  s.targets.reserve(rows.size());
+  for (const DatasetRow& r : rows) {
+    s.inputs.push_back(Inputs::gather(r));
+    s.targets.push_back(gather_errors(r));
+  }
+  return s;
+}
 
-/// The same with the carriage position as fifth input (PV, PD, AV, AD, Y [mm]).
-struct PaperSamplesY {
-  std::vector<std::array<double, 5>> inputs;   ///< PV [mm/s], PD [mm], AV [mm/s], AD [mm], Y [mm]
-  std::vector<std::array<double, 4>> targets;  ///< MPE, RPE, MAE, RAE [µm], signed as in the file
-};
-
-/// Inputs (PV, PD, AV, AD, Y) and targets of every row, in file units.
-PaperSamplesY paper_samples_with_y(const std::vector<io::DatasetRow>& rows);
-
-/// Input names for messages: "PV", "PD", "AV", "AD".
-std::vector<std::string> paper_input_names();
+/// The labels of `Inputs` for messages and options.input_names: "PV", "PD", ….
+template <typename Inputs>
+std::vector<std::string> input_labels() {
+  const auto labels = Inputs::labels();
+  return {labels.begin(), labels.end()};
+}
 
 /// The residual of one sample for one output, ŷ(x) − z, evaluated by the RT forward pass.
 /// Parameter blocks (DynamicAutoDiffCostFunction): block 0 = the premise (centres then widths,

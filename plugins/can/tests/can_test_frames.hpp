@@ -16,7 +16,7 @@ namespace cmmcomp::test {
 
 /// The model of docs/protocol-can.md's example: MPE = 3 + x̂, RPE = −1.25 + 0.5·x̂, MAE = 4,
 /// RAE = 2.5 + 2·x̂ [µm] with x̂ = (PV − 5)/75 (tests/support/compensation_models.hpp).
-inline compensation::MoveCompensator::Model example_model() {
+inline compensation::Model<PaperInputs> example_model() {
   return linear_model({3.0, -1.25, 4.0, 2.5}, {1.0, 0.5, 0.0, 2.0});
 }
 inline constexpr std::uint64_t kExampleModelId = 0xC0FFEE01u;

@@ -13,7 +13,7 @@ namespace cmmcomp::test {
 inline constexpr std::uint64_t kExampleModelId = 0x0123456789ABCDEFull;
 
 /// MPE = 10 + 2·x̂, RPE = −2 + x̂, MAE = 4 + 2·x̂, RAE = 1.5 + x̂ with x̂ = (PV − 5)/75.
-inline compensation::MoveCompensator::Model example_model() {
+inline compensation::Model<PaperInputs> example_model() {
   return linear_model({10.0, -2.0, 4.0, 1.5}, {2.0, 1.0, 2.0, 1.0});
 }
 
