@@ -48,7 +48,6 @@ int main() {
               sum.initial_cost,
               sum.final_cost);
   // The spread of each output over the dataset: what a constant model would leave.
-  const char* names[4] = {"MPE", "RPE", "MAE", "RAE"};
   bool good = sum.usable();
   for (std::size_t o = 0; o < 4; ++o) {
     double mean = 0.0, var = 0.0;
@@ -56,7 +55,7 @@ int main() {
     for (const auto& t : samples.targets) var += (t[o] - mean) * (t[o] - mean);
     const double spread = std::sqrt(var / samples.targets.size());
     std::printf("  %s: training RMSE %.3f um, CV RMSE %.3f um (spread of the data %.3f um)\n",
-                names[o],
+                kErrors[o].label,
                 sum.train_rmse[o],
                 sum.cv_rmse[o],
                 spread);

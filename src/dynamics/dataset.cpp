@@ -14,9 +14,9 @@
 
 namespace cmmcomp::dynamics {
 
-std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
-                                             std::vector<io::DatasetRow> rows,
-                                             const DatasetOptions& options) {
+std::vector<DatasetRow> simulate_dataset(const Machine& machine,
+                                         std::vector<DatasetRow> rows,
+                                         const DatasetOptions& options) {
   const std::size_t total = rows.size();
   unsigned threads = options.threads > 0 ? static_cast<unsigned>(options.threads)
                                          : std::max(1u, std::thread::hardware_concurrency());
@@ -35,7 +35,7 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
       // Every row is simulated even after a failure, so the error reported is always the one of
       // the first failing row, whatever the thread count.
       for (std::size_t i = next++; i < total; i = next++) {
-        io::DatasetRow& r = rows[i];
+        DatasetRow& r = rows[i];
         const motion::ProbingMove move = move_of(r);
         try {
           const SimulationResult res = sim.simulate(move, r.y_mm * 1e-3);
@@ -77,8 +77,7 @@ std::vector<io::DatasetRow> simulate_dataset(const Machine& machine,
   return rows;
 }
 
-std::vector<io::DatasetRow> rows_from_design(const doe::Design& design,
-                                             const FixedSettings& fixed) {
+std::vector<DatasetRow> rows_from_design(const doe::Design& design, const FixedSettings& fixed) {
   const int pv = design.find_factor("PV");
   const int pd = design.find_factor("PD");
   const int av = design.find_factor("AV");
@@ -88,10 +87,10 @@ std::vector<io::DatasetRow> rows_from_design(const doe::Design& design,
     throw std::invalid_argument(
         "a move design needs exactly the factors PV, PD, AV, AD and optionally Y");
   }
-  std::vector<io::DatasetRow> rows;
+  std::vector<DatasetRow> rows;
   rows.reserve(static_cast<std::size_t>(design.runs()));
   for (int r = 0; r < design.runs(); ++r) {
-    io::DatasetRow row;
+    DatasetRow row;
     row.pv_mm_s = design.value(r, pv) * 1e3;
     row.pd_mm = design.value(r, pd) * 1e3;
     row.av_mm_s = design.value(r, av) * 1e3;

@@ -19,12 +19,12 @@ constexpr int kMedianSeeds = 20;
 constexpr int kSweepPoints = 21;
 // A turn smaller than this fraction of Table 1's σ is not an extremum (hysteresis).
 constexpr double kFlatSigma = 0.01;
-constexpr const char* kInputNames[4] = {"PV", "PD", "AV", "AD"};
+constexpr std::array<const char*, 4> kInputNames = PaperInputs::labels();
 
 std::array<double, 4> magnitudes(const errors::DynamicErrors& e) {
   return {e.mpe, std::fabs(e.rpe), e.mae, std::fabs(e.rae)};
 }
-std::array<double, 4> magnitudes(const io::DatasetRow& r) {
+std::array<double, 4> magnitudes(const DatasetRow& r) {
   return {r.mpe_um, std::fabs(r.rpe_um), r.mae_um, std::fabs(r.rae_um)};
 }
 
@@ -35,24 +35,24 @@ const doe::AnovaTable& table(const io::DatasetAnova& a, std::size_t p) {
 
 /// Simulates each run once (noiseless) and repeats it `repeats` times consecutively, as
 /// doe::replicate orders them.
-std::vector<io::DatasetRow> simulate_replicated(const Machine& machine,
-                                                const doe::Design& design,
-                                                int threads) {
+std::vector<DatasetRow> simulate_replicated(const Machine& machine,
+                                            const doe::Design& design,
+                                            int threads) {
   DatasetOptions options;
   options.threads = threads;
   const auto unique = simulate_dataset(machine, rows_from_design(design, {}), options);
-  std::vector<io::DatasetRow> rows;
-  for (const io::DatasetRow& r : unique) rows.insert(rows.end(), kRepeats, r);
+  std::vector<DatasetRow> rows;
+  for (const DatasetRow& r : unique) rows.insert(rows.end(), kRepeats, r);
   return rows;
 }
 
 /// `clean` with the noise `simulate_dataset` would give row i for `seed`.
-std::vector<io::DatasetRow> with_noise(std::vector<io::DatasetRow> rows, std::uint64_t seed) {
+std::vector<DatasetRow> with_noise(std::vector<DatasetRow> rows, std::uint64_t seed) {
   MeasurementNoise noise;
   noise.enabled = true;
   noise.seed = seed;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    io::DatasetRow& r = rows[i];
+    DatasetRow& r = rows[i];
     const errors::DynamicErrors e =
         add_noise(errors::DynamicErrors{r.mpe_um, r.rpe_um, r.mae_um, r.rae_um}, noise, i);
     r.mpe_um = e.mpe;
@@ -101,7 +101,7 @@ std::vector<SweepResult> run_sweeps(const Machine& machine, int threads) {
   for (std::size_t f = 0; f < 4; ++f) {
     for (std::size_t l = 0; l < 3; ++l) level_mm[f][l] = factors[f].levels[l] * 1e3;
   }
-  std::vector<io::DatasetRow> rows;
+  std::vector<DatasetRow> rows;
   for (int input = 0; input < 4; ++input) {
     for (int combo = 0; combo < 8; ++combo) {
       for (int k = 0; k < kSweepPoints; ++k) {
@@ -115,7 +115,7 @@ std::vector<SweepResult> run_sweeps(const Machine& machine, int threads) {
             x[static_cast<std::size_t>(f)] = ((combo >> bit++) & 1) != 0 ? lv[2] : lv[0];
           }
         }
-        io::DatasetRow r;
+        DatasetRow r;
         r.pv_mm_s = x[0];
         r.pd_mm = x[1];
         r.av_mm_s = x[2];
@@ -143,7 +143,7 @@ std::vector<SweepResult> run_sweeps(const Machine& machine, int threads) {
         std::vector<double> v;
         bool triangular = false;
         for (int k = 0; k < kSweepPoints; ++k) {
-          const io::DatasetRow& r = rows[first + static_cast<std::size_t>(k)];
+          const DatasetRow& r = rows[first + static_cast<std::size_t>(k)];
           v.push_back(magnitudes(r)[static_cast<std::size_t>(p)]);
           triangular |= r.pd_mm < r.pv_mm_s * r.pv_mm_s / r.pa_mm_s2;
         }
@@ -216,8 +216,8 @@ PaperComparison compare_with_paper(const PaperSimulations& sims, std::uint64_t s
     for (std::size_t f = 0; f < 5; ++f) c.median_weight[p][f] = median(weights[p][f]);
   }
   // Table 5: mean |value| over the noisy grid.
-  const std::vector<io::DatasetRow> grid = with_noise(sims.grid, seed);
-  for (const io::DatasetRow& r : grid) {
+  const std::vector<DatasetRow> grid = with_noise(sims.grid, seed);
+  for (const DatasetRow& r : grid) {
     const auto m = magnitudes(r);
     for (std::size_t p = 0; p < 4; ++p)
       c.grid_mean_um[p] += m[p] / static_cast<double>(grid.size());

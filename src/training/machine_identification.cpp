@@ -8,6 +8,7 @@
 #include <cmmcomp/doe/anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/error.hpp>
+#include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/training/machine_identification.hpp>
 #include <fstream>
 #include <map>
@@ -23,8 +24,8 @@ using dynamics::Machine;
 using dynamics::MachineParameters;
 using Info = dynamics::ParameterInfo<MachineParameters>;
 
-constexpr const char* kParamNames[4] = {"MPE", "RPE", "MAE", "RAE"};
-constexpr const char* kSourceNames[5] = {"PV", "PD", "AV", "AD", "error"};
+constexpr const std::array<const char*, 4>& kParamNames = paper::kParameters;
+constexpr const std::array<const char*, 5>& kSourceNames = paper::kAnovaSources;
 
 std::array<double, 4> errors_of(const io::DatasetRow& r, bool magnitudes) {
   return {r.mpe_um,

@@ -310,7 +310,7 @@ std::vector<DatasetRow> synthetic_l18() {
 }
 
 void expect_single_factor(const doe::AnovaTable& t, const std::string& factor) {
-  for (const std::string& f : io::kAnovaFactors) {
+  for (const std::string f : io::kAnovaFactors) {
     EXPECT_NEAR(t.factor(f).weight_percent, f == factor ? 100.0 : 0.0, 1e-6)
         << "factor " << f << " (expected " << factor << " alone)";
   }
@@ -345,7 +345,7 @@ TEST(AnovaOfDataset, RepeatsAreAveraged) {
   expect_single_factor(a.mpe, "PV");
   expect_single_factor(a.mae, "AD");
   const io::DatasetAnova once = io::anova_of_dataset(synthetic_l18());
-  for (const std::string& f : io::kAnovaFactors) {
+  for (const std::string f : io::kAnovaFactors) {
     EXPECT_NEAR(a.mpe.factor(f).weight_percent, once.mpe.factor(f).weight_percent, 1e-9) << f;
     EXPECT_NEAR(a.rpe.factor(f).weight_percent, once.rpe.factor(f).weight_percent, 1e-9) << f;
   }

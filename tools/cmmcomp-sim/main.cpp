@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/doe/orthogonal_array.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
@@ -16,6 +17,8 @@
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
+#include <cmmcomp/paper_reference.hpp>
+#include <cmmcomp/schema.hpp>
 #include <cmmcomp/training/machine_identification.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
@@ -31,7 +34,9 @@ constexpr double kMm = 1e-3;  // mm -> m
 
 /// Move flags in the paper's units (mm, mm/s, mm/s^2), defaults = the paper's baseline.
 struct MoveFlags {
-  double pv = 40, pa = 200, pd = 40, av = 12, aa = 60, ad = 10, jerk = 0;
+  double pv = cmmcomp::paper::kBaseline.pv_mm_s, pa = cmmcomp::paper::kBaseline.pa_mm_s2,
+         pd = cmmcomp::paper::kBaseline.pd_mm, av = cmmcomp::paper::kBaseline.av_mm_s,
+         aa = cmmcomp::paper::kBaseline.aa_mm_s2, ad = cmmcomp::paper::kBaseline.ad_mm, jerk = 0;
 
   void add_to(CLI::App& app) {
     app.add_option("--pv", pv, "positioning speed PV [mm/s]")->capture_default_str();
@@ -131,12 +136,27 @@ int run_move(const MoveCommand& cmd) {
   return 0;
 }
 
+/// The paper's Table 3 as a --levels value: "pv=40,70,100;pd=40,60,80;av=8,12,16;ad=5,10,15".
+std::string table3_levels() {
+  std::string s;
+  for (std::size_t f = 0; f < cmmcomp::paper::kTable3Levels.size(); ++f) {
+    std::string name = cmmcomp::PaperInputs::labels()[f];
+    for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    s += fmt::format("{}{}=", f == 0 ? "" : ";", name);
+    const auto& levels = cmmcomp::paper::kTable3Levels[f];
+    for (std::size_t l = 0; l < levels.size(); ++l)
+      s += fmt::format("{}{:g}", l == 0 ? "" : ",", levels[l]);
+  }
+  return s;
+}
+
 struct DatasetCommand {
   std::string design = "l18";
   int repeats = 1;
   int samples = 270;
-  std::string levels = "pv=40,70,100;pd=40,60,80;av=8,12,16;ad=5,10,15";
-  double pa = 200, aa = 60, y_mm = 250;
+  std::string levels = table3_levels();
+  double pa = cmmcomp::paper::kBaseline.pa_mm_s2, aa = cmmcomp::paper::kBaseline.aa_mm_s2,
+         y_mm = cmmcomp::paper::kBaseline.y_mm;
   std::string machine_path, output;
   bool noise = false;
   std::uint64_t seed = 1;

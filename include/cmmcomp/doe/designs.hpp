@@ -13,6 +13,8 @@
 
 #include <cmath>
 #include <cmmcomp/doe/orthogonal_array.hpp>
+#include <cmmcomp/paper_reference.hpp>
+#include <cmmcomp/schema.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -270,10 +272,14 @@ inline std::vector<int> paper_l18_assignment() { return {1, 2, 3, 4}; }
 /// PV 40/70/100 mm/s, PD 40/60/80 mm (80 mm is the project's choice for the missing third
 /// level), AV 8/12/16 mm/s, AD 5/10/15 mm.
 inline std::vector<Factor> paper_table3_factors() {
-  return {Factor{"PV", {0.040, 0.070, 0.100}},
-          Factor{"PD", {0.040, 0.060, 0.080}},
-          Factor{"AV", {0.008, 0.012, 0.016}},
-          Factor{"AD", {0.005, 0.010, 0.015}}};
+  std::vector<Factor> factors;
+  for (std::size_t f = 0; f < paper::kTable3Levels.size(); ++f) {
+    Factor factor{PaperInputs::labels()[f], {}};
+    // mm / 1000: the double nearest the SI value, the same bits as the literal (0.040).
+    for (const double level : paper::kTable3Levels[f]) factor.levels.push_back(level / 1000.0);
+    factors.push_back(std::move(factor));
+  }
+  return factors;
 }
 
 /// The 18-run design of the paper's experiment (L18, Table 3 levels): paper_table3_factors() on

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cmmcomp/detail/splitmix64.hpp>
 #include <cmmcomp/errors/dynamic_errors.hpp>
+#include <cmmcomp/paper_reference.hpp>
 #include <cstdint>
 
 namespace cmmcomp::dynamics {
@@ -13,12 +14,12 @@ namespace cmmcomp::dynamics {
 /// are the paper's Table 1 (five repeats at the baseline). Noise for sample i depends only on
 /// (seed, i), never on thread count or order.
 struct MeasurementNoise {
-  bool enabled = false;         ///< off: parameters are returned as simulated
-  double mpe_sigma_um = 1.321;  ///< standard deviation on MPE [µm]
-  double rpe_sigma_um = 0.461;  ///< on RPE [µm]
-  double mae_sigma_um = 0.612;  ///< on MAE [µm]
-  double rae_sigma_um = 0.304;  ///< on RAE [µm]
-  std::uint64_t seed = 1;       ///< stream seed
+  bool enabled = false;                        ///< off: parameters are returned as simulated
+  double mpe_sigma_um = paper::kTable1Std[0];  ///< standard deviation on MPE [µm]
+  double rpe_sigma_um = paper::kTable1Std[1];  ///< on RPE [µm]
+  double mae_sigma_um = paper::kTable1Std[2];  ///< on MAE [µm]
+  double rae_sigma_um = paper::kTable1Std[3];  ///< on RAE [µm]
+  std::uint64_t seed = 1;                      ///< stream seed
 };
 
 /// `clean` (µm) plus the noise of sample `index`. MPE and MAE stay magnitudes (never below 0).

@@ -20,7 +20,7 @@
 #include <array>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/errors/dynamic_errors.hpp>
-#include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/schema.hpp>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -47,8 +47,8 @@ struct SweepResult {
 /// The noiseless simulations every seed shares.
 struct PaperSimulations {
   std::array<errors::DynamicErrors, 3> by_y{};  ///< baseline at Y = 0, 250, 500 mm [µm]
-  std::vector<io::DatasetRow> l18;              ///< L18 × 3, noiseless
-  std::vector<io::DatasetRow> grid;             ///< full 3⁴ × 3 at Y 250, noiseless
+  std::vector<DatasetRow> l18;                  ///< L18 × 3, noiseless
+  std::vector<DatasetRow> grid;                 ///< full 3⁴ × 3 at Y 250, noiseless
   std::vector<SweepResult> sweeps;              ///< 16 entries [input][parameter]
 };
 

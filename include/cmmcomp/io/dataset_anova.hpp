@@ -26,8 +26,8 @@ struct DatasetAnova {
   int samples = 0;  ///< rows
 };
 
-/// Factor names in the tables.
-inline const std::array<std::string, 4> kAnovaFactors = {"PV", "PD", "AV", "AD"};
+/// Factor names in the tables: PaperInputs' labels (schema.hpp).
+inline constexpr std::array<const char*, 4> kAnovaFactors = PaperInputs::labels();
 
 /// Throws std::invalid_argument when PA, AA or Y vary, when a factor has a single level, or when
 /// the runs are not an orthogonal design (the message names the factors).
@@ -43,7 +43,7 @@ inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
     }
   }
   using Key = std::array<double, 4>;
-  auto key_of = [](const DatasetRow& r) { return Key{r.pv_mm_s, r.pd_mm, r.av_mm_s, r.ad_mm}; };
+  auto key_of = [](const DatasetRow& r) { return PaperInputs::gather(r); };
   std::map<Key, std::array<double, 5>> sums;  // mpe, |rpe|, mae, |rae|, count
   std::vector<Key> order;
   for (const DatasetRow& r : rows) {
@@ -61,7 +61,8 @@ inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
     std::sort(levels[f].begin(), levels[f].end());
     levels[f].erase(std::unique(levels[f].begin(), levels[f].end()), levels[f].end());
     if (levels[f].size() < 2) {
-      throw std::invalid_argument("anova: factor " + kAnovaFactors[f] + " has a single level");
+      throw std::invalid_argument(std::string("anova: factor ") + kAnovaFactors[f] +
+                                  " has a single level");
     }
   }
   std::vector<std::string> names(kAnovaFactors.begin(), kAnovaFactors.end());

@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cmath>
+#include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/status.hpp>
 
 namespace cmmcomp::motion {
@@ -58,7 +59,17 @@ constexpr ProbingMove probing_move_mm(double pv_mm_s,
 /// The paper's baseline move (PV 40 mm/s, PA 200 mm/s^2, PD 40 mm, AV 12 mm/s, AA 60 mm/s^2,
 /// AD 10 mm), in SI units.
 constexpr ProbingMove baseline_move() noexcept {
-  return ProbingMove{0.040, 0.200, 0.040, 0.012, 0.060, 0.010, 0.0, 0.0, 0.0};
+  // mm / 1000 is the double nearest the SI value, as the literal 0.040 is (bit-identical).
+  constexpr paper::BaselineMove b = paper::kBaseline;
+  return ProbingMove{b.pv_mm_s / 1000.0,
+                     b.pa_mm_s2 / 1000.0,
+                     b.pd_mm / 1000.0,
+                     b.av_mm_s / 1000.0,
+                     b.aa_mm_s2 / 1000.0,
+                     b.ad_mm / 1000.0,
+                     0.0,
+                     0.0,
+                     0.0};
 }
 
 /// Accepted ranges of the move parameters (inclusive). Values outside are rejected with

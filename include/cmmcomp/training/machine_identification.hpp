@@ -12,6 +12,7 @@
 #include <cmmcomp/dynamics/dataset.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/paper_reference.hpp>
 #include <functional>
 #include <string>
 #include <vector>
@@ -54,7 +55,7 @@ struct IdentificationOptions {
   /// Keys ("section.key") of the parameters to fit; empty = every identifiable one.
   std::vector<std::string> free_parameters;
   /// Residual scale per parameter [µm]; defaults: the paper's Table 1 standard deviations.
-  std::array<double, 4> sigma_um{1.321, 0.461, 0.612, 0.304};
+  std::array<double, 4> sigma_um = paper::kTable1Std;
   /// When > 0, the measured moves' residual scale is this fraction of each measured value
   /// instead of `sigma_um` (to weigh targets by a relative tolerance, as the paper's tables are
   /// checked). `sigma_um` still sets the noise share of the ANOVA targets.
