@@ -8,17 +8,25 @@ install(FILES "${PROJECT_BINARY_DIR}/include/cmmcomp/version.hpp"
 # that take a model file path (the C ABI, cmmcomp-train export, cmmcomp-agent --model).
 install(FILES "${PROJECT_SOURCE_DIR}/data/models/default.json"
         DESTINATION ${CMAKE_INSTALL_DATADIR}/cmmcomp/models)
-# Two export sets, so that find_package(cmmcomp COMPONENTS core) needs no other package:
-# the header-only core (and its opt-in FP contract), and the compiled libraries.
+# One export set per component, so that find_package(cmmcomp COMPONENTS ...) finds only the
+# packages the requested components need (cmmcompConfig.cmake.in).
 install(TARGETS cmmcomp_core cmmcomp_strict_fp EXPORT cmmcompCoreTargets)
-install(EXPORT cmmcompCoreTargets NAMESPACE cmmcomp:: FILE cmmcompCoreTargets.cmake
-        DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cmmcomp)
-install(TARGETS cmmcomp_lib cmmcomp_training cmmcomp_capi EXPORT cmmcompTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+set(_cmmcomp_components Core Io Twin Capi)
+install(TARGETS cmmcomp_io EXPORT cmmcompIoTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(TARGETS cmmcomp_twin cmmcomp_lib EXPORT cmmcompTwinTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(TARGETS cmmcomp_capi EXPORT cmmcompCapiTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(EXPORT cmmcompTargets NAMESPACE cmmcomp:: FILE cmmcompTargets.cmake
-        DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cmmcomp)
+if(TARGET cmmcomp_training)
+  install(TARGETS cmmcomp_training EXPORT cmmcompTrainingTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  list(APPEND _cmmcomp_components Training)
+endif()
+foreach(_c IN LISTS _cmmcomp_components)
+  install(EXPORT cmmcomp${_c}Targets NAMESPACE cmmcomp:: FILE cmmcomp${_c}Targets.cmake
+          DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cmmcomp)
+endforeach()
 
 configure_package_config_file("${PROJECT_SOURCE_DIR}/cmake/cmmcompConfig.cmake.in"
   "${PROJECT_BINARY_DIR}/cmmcompConfig.cmake"

@@ -20,7 +20,7 @@ int main() {
   // 1. The design: 18 runs, each repeated 3 times (factor values in SI units).
   const doe::Design design = doe::replicate(doe::paper_l18_design(), 3);
   // 2. Dataset rows (file units: mm, mm/s) with PA 200 mm/s^2, AA 60 mm/s^2, Y 250 mm.
-  std::vector<io::DatasetRow> rows = dynamics::rows_from_design(design, dynamics::FixedSettings{});
+  std::vector<DatasetRow> rows = dynamics::rows_from_design(design, dynamics::FixedSettings{});
   // 3. Simulate every move (in parallel; the result does not depend on the thread count).
   dynamics::DatasetOptions dopt;
   dopt.noise.enabled = true;  // the paper's Table 1 scatter, seeded: repeats differ

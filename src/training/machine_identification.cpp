@@ -27,7 +27,7 @@ using Info = dynamics::ParameterInfo<MachineParameters>;
 constexpr const std::array<const char*, 4>& kParamNames = paper::kParameters;
 constexpr const std::array<const char*, 5>& kSourceNames = paper::kAnovaSources;
 
-std::array<double, 4> errors_of(const io::DatasetRow& r, bool magnitudes) {
+std::array<double, 4> errors_of(const DatasetRow& r, bool magnitudes) {
   return {r.mpe_um,
           magnitudes ? std::fabs(r.rpe_um) : r.rpe_um,
           r.mae_um,
@@ -97,7 +97,7 @@ class Problem {
     // integrating for minutes: past this it fails, and Levenberg–Marquardt shrinks the step.
     opts.simulation.integrator.max_steps = 20000;
     opts.simulation.trace_rate_hz = 200.0;
-    std::vector<io::DatasetRow> rows = targets_.moves;
+    std::vector<DatasetRow> rows = targets_.moves;
     rows.insert(rows.end(), l18_rows_.begin(), l18_rows_.end());
     rows.insert(rows.end(), grid_rows_.begin(), grid_rows_.end());
     rows = dynamics::simulate_dataset(m, rows, opts);
@@ -143,7 +143,7 @@ class Problem {
 
   std::vector<double> targets() const {
     std::vector<double> v;
-    for (const io::DatasetRow& r : targets_.moves) {
+    for (const DatasetRow& r : targets_.moves) {
       const auto e = errors_of(r, targets_.compare_magnitudes);
       v.insert(v.end(), e.begin(), e.end());
     }
@@ -158,7 +158,7 @@ class Problem {
 
   std::vector<double> sigmas() const {
     std::vector<double> v;
-    for (const io::DatasetRow& r : targets_.moves) {
+    for (const DatasetRow& r : targets_.moves) {
       if (options_.relative_move_sigma > 0.0) {
         const auto e = errors_of(r, targets_.compare_magnitudes);
         for (double x : e) {
@@ -203,8 +203,8 @@ class Problem {
   IdentificationOptions options_;
   std::vector<const Info*> free_;
   doe::Design l18_;
-  std::vector<io::DatasetRow> l18_rows_;
-  std::vector<io::DatasetRow> grid_rows_;
+  std::vector<DatasetRow> l18_rows_;
+  std::vector<DatasetRow> grid_rows_;
 };
 
 /// Residuals (model − target)/σ with a forward-difference Jacobian whose columns are simulated

@@ -21,7 +21,7 @@
 namespace cmmcomp::dynamics {
 namespace {
 
-using io::DatasetRow;
+using cmmcomp::DatasetRow;
 
 bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;

@@ -267,7 +267,7 @@ int run_dataset(const DatasetCommand& cmd) {
       if (done == total) std::fputc('\n', stderr);
     };
   }
-  const std::vector<cmmcomp::io::DatasetRow> rows =
+  const std::vector<cmmcomp::DatasetRow> rows =
       simulate_dataset(machine_from(cmd.machine_path),
                        rows_from_design(design, FixedSettings{cmd.pa, cmd.aa, cmd.y_mm}),
                        options);

@@ -43,7 +43,7 @@ struct GridMeanTargets {
 
 /// What to fit.
 struct IdentificationTargets {
-  std::vector<io::DatasetRow> moves;  ///< measured moves: settings and their four errors [µm]
+  std::vector<DatasetRow> moves;  ///< measured moves: settings and their four errors [µm]
   /// Compare |RPE| and |RAE| (for data that reports magnitudes, like the paper's tables).
   bool compare_magnitudes = false;
   AnovaTargets anova{};
