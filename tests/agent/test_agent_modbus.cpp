@@ -193,6 +193,84 @@ TEST(Agent, SighupReloadsAndABadFileKeepsTheOldModelServing) {
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
 }
 
+/// An agent started with `--config FILE` serving Modbus TCP on a free loopback port: the config
+/// `body` (sections and keys, without [modbus]) is written with the port, retried when taken.
+struct ConfiguredAgent {
+  RunningAgent agent;
+  std::string config;
+};
+std::string modbus_section(int port) {
+  return "[modbus]\nendpoint = \"tcp:127.0.0.1:" + std::to_string(port) + "\"\n";
+}
+ConfiguredAgent start_configured_agent(const std::string& config, const std::string& body) {
+  for (int attempt = 0; attempt < 20; ++attempt) {
+    const int port = 20000 + static_cast<int>((getpid() * 61 + attempt * 139 + 7) % 25000);
+    { std::ofstream(config, std::ios::trunc) << body << modbus_section(port); }
+    auto p = std::make_unique<AgentProcess>(CMMCOMP_AGENT_PATH,
+                                            std::vector<std::string>{"--config", config});
+    if (p->wait_for_output("listening on Modbus TCP", 10s)) return {{std::move(p), port}, config};
+    if (p->output().find("in use") == std::string::npos) {
+      ADD_FAILURE() << "agent did not start:\n" << p->output();
+      return {};
+    }
+  }
+  ADD_FAILURE() << "no free port";
+  return {};
+}
+
+// docs/agent.md: the config file sets the models (relative to its folder); SIGHUP re-reads it;
+// a bad config changes nothing (not even the models); a bus change waits for a restart.
+TEST(Agent, ConfigFileServesAndSighupRereadsItKeepingEverythingOnABadOne) {
+  auto a = io::default_model_file();
+  auto b = a;
+  for (int j = 0; j < 81; ++j) b.model.params.consequent(3, j, 0) += 1.5;  // RAE + 1.5 µm
+  const auto dir = scratch("config-test").parent_path() / "config";
+  std::filesystem::create_directories(dir);
+  io::save_model_file((dir / "a.json").string(), a);
+  io::save_model_file((dir / "b.json").string(), b);
+  a = io::load_model_file_of<PaperInputs>((dir / "a.json").string());
+  b = io::load_model_file_of<PaperInputs>((dir / "b.json").string());
+  const std::string config = (dir / "agent.toml").string();
+  const std::string head = "format_version = 1\nlog_level = \"info\"\n";
+
+  ConfiguredAgent ca = start_configured_agent(config, head + "[models]\n0 = \"a.json\"\n");
+  ASSERT_TRUE(ca.agent.process);
+  AgentProcess& agent = *ca.agent.process;
+  Client c = connect(ca.agent.port);
+  map::Result r = ask(c.get(), probing_move(1));
+  EXPECT_EQ(r.model_id, id_of(a));
+  expect_same(r, expected(a, probing_move(1)));
+
+  // A broken config: nothing changes, although it names model b.
+  {
+    std::ofstream(config, std::ios::trunc) << head << "[models]\n0 = \"b.json\"\n"
+                                           << modbus_section(ca.agent.port) << "unit = 0\n";
+  }
+  agent.signal(SIGHUP);
+  ASSERT_TRUE(agent.wait_for_output("keeps serving as it was", 5s)) << agent.output();
+  EXPECT_NE(agent.output().find("agent.toml:7: 'modbus.unit' = 0 is outside 1 .. 247"),
+            std::string::npos)
+      << agent.output();
+  r = ask(c.get(), probing_move(2));
+  EXPECT_EQ(r.model_id, id_of(a));
+
+  // A good config with model b and another unit: b serves, the unit waits for a restart.
+  {
+    std::ofstream(config, std::ios::trunc) << head << "[models]\n0 = \"b.json\"\n"
+                                           << modbus_section(ca.agent.port) << "unit = 2\n";
+  }
+  agent.signal(SIGHUP);
+  ASSERT_TRUE(agent.wait_for_output("reloaded model " + b.model_id, 5s)) << agent.output();
+  EXPECT_NE(agent.output().find("[modbus] changed in"), std::string::npos) << agent.output();
+  r = ask(c.get(), probing_move(3));  // still unit 1
+  EXPECT_EQ(r.model_id, id_of(b));
+  expect_same(r, expected(b, probing_move(3)));
+
+  agent.signal(SIGTERM);
+  EXPECT_EQ(agent.wait_exit(5s), 0) << agent.output();
+  std::filesystem::remove_all(dir.parent_path());
+}
+
 /// The agent's resident set [kB], from /proc.
 long rss_kb(pid_t pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");
@@ -296,6 +374,10 @@ TEST(Agent, RefusesBadArgumentsWithAClearMessage) {
        "/nonexistent/model.json: cannot open model file"},
       {{"--modbus", "tcp:127.0.0.1:1502", "--model", "7=/x.json"}, "axis '7'"},
       {{"--can", "vcan0", "--can-base-id", "0x900"}, "11-bit"},
+      {{"--config", "/nonexistent/agent.toml"},
+       "/nonexistent/agent.toml: cannot open agent config"},
+      {{"--config", "/etc/cmmcomp/agent.toml", "--modbus", "tcp:127.0.0.1:1502"},
+       "--modbus and --config"},
   };
   for (const Case& k : cases) {
     AgentProcess p(CMMCOMP_AGENT_PATH, k.args);

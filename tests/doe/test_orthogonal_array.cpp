@@ -10,7 +10,7 @@
 namespace cmmcomp::doe {
 namespace {
 
-// paper-tables/taguchi_l18.csv, columns c1..c8, 1-based as published.
+// The standard L18 (2^1 x 3^7) as published in Taguchi tables, columns c1..c8, 1-based.
 constexpr int kL18[18][8] = {
     {1, 1, 1, 1, 1, 1, 1, 1},
     {1, 1, 2, 2, 2, 2, 2, 2},

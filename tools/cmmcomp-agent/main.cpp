@@ -30,15 +30,19 @@
 #include <thread>
 #include <vector>
 
+#include "agent_config.hpp"
 #include "domain_policy_option.hpp"
 #include "model_slots.hpp"
 
 namespace {
 
-using cmmcomp::agent::ModelSlot;
-using cmmcomp::agent::SlotOutcome;
+using cmmcomp::serving::AgentSettings;
+using cmmcomp::serving::ModelSlot;
+using cmmcomp::serving::SlotOutcome;
 
+/// The command line: either --config FILE, or the serving options themselves.
 struct Options {
+  std::string config;
   std::vector<std::string> models;
   std::string can_interface;
   std::string can_base_id =
@@ -49,7 +53,36 @@ struct Options {
   int modbus_unit = 1;
   std::string outside_domain = "clamp";
   std::string log_level = "info";
+
+  /// The settings the options say (setup; throws ConfigError for a bad --model or base id).
+  AgentSettings settings() const {
+    if (!config.empty()) return cmmcomp::serving::load_agent_config(config);
+    AgentSettings s;
+    for (const std::string& m : models) {
+      s.models.push_back(cmmcomp::serving::parse_model_argument(m));
+    }
+    s.can.interface = can_interface;
+    s.can.base_id = cmmcomp::plugins::parse_can_base_id(can_base_id);
+    s.can.heartbeat_ms = can_heartbeat_ms;
+    s.can.part_timeout_ms = can_part_timeout_ms;
+    s.modbus.endpoint = modbus;
+    s.modbus.unit = modbus_unit;
+    // CLI11 admits only the three names, so the parse cannot fail here.
+    (void)cmmcomp::fuzzy::parse_domain_policy(outside_domain, &s.outside_domain);
+    s.log_level = log_level;
+    return s;
+  }
 };
+
+/// The default model's slot, with the warning that it is the twin's, when none is given.
+std::vector<ModelSlot> slots_of(const AgentSettings& s) {
+  if (!s.models.empty()) return s.models;
+  spdlog::warn(
+      "no model given: serving the shipped default model on axis 0. It was trained on the "
+      "simulated default machine (digital twin), NOT on your machine; train one with "
+      "cmmcomp-train on your own measurements");
+  return {ModelSlot{0, ""}};
+}
 
 /// Logs what a load or reload did; returns true when every slot was loaded.
 bool report(const std::vector<SlotOutcome>& outcomes, bool reload) {
@@ -135,25 +168,46 @@ class ServerThread {
   std::thread thread_;
 };
 
-int serve(const Options& opt) {
-  spdlog::set_level(spdlog::level::from_str(opt.log_level));
-  spdlog::info("cmmcomp-agent {}", CMMCOMP_VERSION_STRING);
-
-  std::vector<ModelSlot> slots;
-  for (const std::string& m : opt.models) slots.push_back(cmmcomp::agent::parse_model_argument(m));
-  if (slots.empty()) {
-    slots.push_back(ModelSlot{0, ""});
-    spdlog::warn(
-        "no --model: serving the shipped default model on axis 0. It was trained on the "
-        "simulated default machine (digital twin), NOT on your machine; train one with "
-        "cmmcomp-train on your own measurements");
+/// Re-reads the config file for SIGHUP. A config that fails keeps everything as it was (the
+/// models are not reloaded either); settings that need a restart are reported and left as they
+/// are. Returns the model slots to reload, or nothing.
+bool reload_config(const std::string& path, AgentSettings& running, std::vector<ModelSlot>& slots) {
+  AgentSettings next;
+  try {
+    next = cmmcomp::serving::load_agent_config(path);
+  } catch (const std::exception& e) {
+    spdlog::error("SIGHUP: {}; the agent keeps serving as it was", e.what());
+    return false;
   }
+  for (const std::string& what : cmmcomp::serving::restart_needed(running, next)) {
+    spdlog::warn("SIGHUP: {} changed in {}: it takes effect at the next start", what, path);
+  }
+  for (const ModelSlot& old : slots) {
+    bool kept = false;
+    for (const ModelSlot& s : next.models) kept = kept || s.axis == old.axis;
+    if (!kept && !next.models.empty()) {
+      spdlog::warn("SIGHUP: axis {} is no longer in {}; its model keeps serving", old.axis, path);
+    }
+  }
+  spdlog::set_level(spdlog::level::from_str(next.log_level));
+  running.models = next.models;
+  running.log_level = next.log_level;
+  slots = slots_of(running);
+  return true;
+}
+
+int serve(const Options& opt) {
+  AgentSettings settings = opt.settings();
+  spdlog::set_level(spdlog::level::from_str(settings.log_level));
+  spdlog::info("cmmcomp-agent {}{}",
+               CMMCOMP_VERSION_STRING,
+               opt.config.empty() ? "" : " (config " + opt.config + ")");
+  std::vector<ModelSlot> slots = slots_of(settings);
 
   cmmcomp::compensation::CompensatorOptions copt;
-  // CLI11 admits only the three names, so the parse cannot fail here.
-  (void)cmmcomp::fuzzy::parse_domain_policy(opt.outside_domain, &copt.outside_domain);
+  copt.outside_domain = settings.outside_domain;
   cmmcomp::compensation::MoveCompensator compensator(copt);
-  if (!report(cmmcomp::agent::load_slots(slots, compensator), false)) return 2;
+  if (!report(cmmcomp::serving::load_slots(slots, compensator), false)) return 2;
 
   // Block the signals before any thread starts, so that every thread inherits the mask.
   sigset_t signals;
@@ -169,19 +223,19 @@ int serve(const Options& opt) {
   // Servers are constructed here (bind errors are reported before anything serves).
   std::unique_ptr<cmmcomp::plugins::CanServer> can;
   std::unique_ptr<cmmcomp::plugins::ModbusServer> modbus;
-  if (!opt.can_interface.empty()) {
+  if (!settings.can.interface.empty()) {
     cmmcomp::plugins::CanServerOptions o;
-    o.interface = opt.can_interface;
-    o.base_id = cmmcomp::plugins::parse_can_base_id(opt.can_base_id);
-    o.heartbeat_period = std::chrono::milliseconds(opt.can_heartbeat_ms);
-    o.part_timeout = std::chrono::milliseconds(opt.can_part_timeout_ms);
+    o.interface = settings.can.interface;
+    o.base_id = settings.can.base_id;
+    o.heartbeat_period = std::chrono::milliseconds(settings.can.heartbeat_ms);
+    o.part_timeout = std::chrono::milliseconds(settings.can.part_timeout_ms);
     can = std::make_unique<cmmcomp::plugins::CanServer>(compensator, o);
   }
-  if (!opt.modbus.empty()) {
+  if (!settings.modbus.endpoint.empty()) {
     cmmcomp::plugins::ModbusServerOptions o;
-    o.unit_id = opt.modbus_unit;
+    o.unit_id = settings.modbus.unit;
     modbus = std::make_unique<cmmcomp::plugins::ModbusServer>(
-        compensator, cmmcomp::plugins::ModbusEndpoint::parse(opt.modbus), o);
+        compensator, cmmcomp::plugins::ModbusEndpoint::parse(settings.modbus.endpoint), o);
   }
   // Start serving only once every server is set up; announce each on stdout too, one line
   // each, for scripts that wait for the agent to be ready.
@@ -209,8 +263,10 @@ int serve(const Options& opt) {
       if (reloader_stop) return;
       reload_pending = false;
       lock.unlock();
-      spdlog::info("SIGHUP: reloading {} model(s)", slots.size());
-      report(cmmcomp::agent::load_slots(slots, compensator), true);
+      if (opt.config.empty() || reload_config(opt.config, settings, slots)) {
+        spdlog::info("SIGHUP: reloading {} model(s)", slots.size());
+        report(cmmcomp::serving::load_slots(slots, compensator), true);
+      }
       lock.lock();
     }
   });
@@ -261,10 +317,16 @@ int main(int argc, char** argv) {
       "SIGHUP reloads the model files (a file that fails keeps the old model serving); SIGTERM "
       "stops."};
   Options opt;
-  app.add_option("--model",
-                 opt.models,
-                 "model file from cmmcomp-train, [AXIS=]PATH, AXIS 0-3 (default 0); repeat for "
-                 "several axes. Default: the shipped model of the simulated default machine");
+  auto* config = app.add_option(
+      "--config",
+      opt.config,
+      "read every setting from this file (docs/agent.md), e.g. /etc/cmmcomp/agent.toml; SIGHUP "
+      "re-reads it. Excludes the options below");
+  auto* models =
+      app.add_option("--model",
+                     opt.models,
+                     "model file from cmmcomp-train, [AXIS=]PATH, AXIS 0-3 (default 0); repeat for "
+                     "several axes. Default: the shipped model of the simulated default machine");
   auto* can = app.add_option("--can", opt.can_interface, "serve on this CAN interface (vcan0)");
   app.add_option("--can-base-id", opt.can_base_id, "11-bit base identifier")->capture_default_str();
   app.add_option("--can-heartbeat-ms", opt.can_heartbeat_ms, "heartbeat period, 0 = off")
@@ -277,22 +339,33 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 60'000));
   auto* modbus = app.add_option(
       "--modbus", opt.modbus, "serve Modbus on tcp:HOST:PORT or rtu:DEVICE:BAUD[,8N1]");
-  app.add_option("--modbus-unit", opt.modbus_unit, "Modbus unit id")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 247));
-  app.add_option("--outside-domain",
-                 opt.outside_domain,
-                 "moves outside the training ranges: clamp, extrapolate or reject")
-      ->capture_default_str()
-      ->check(cmmcomp::agent::domain_policy_name());
-  app.add_option("--log-level", opt.log_level, "trace, debug, info, warn, error, critical, off")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+  auto* unit = app.add_option("--modbus-unit", opt.modbus_unit, "Modbus unit id")
+                   ->capture_default_str()
+                   ->check(CLI::Range(1, 247));
+  auto* policy = app.add_option("--outside-domain",
+                                opt.outside_domain,
+                                "moves outside the training ranges: clamp, extrapolate or reject")
+                     ->capture_default_str()
+                     ->check(cmmcomp::serving::domain_policy_name());
+  auto* level =
+      app.add_option("--log-level", opt.log_level, "trace, debug, info, warn, error, critical, off")
+          ->capture_default_str()
+          ->check(CLI::IsMember(std::vector<std::string>(std::begin(cmmcomp::serving::kLogLevels),
+                                                         std::end(cmmcomp::serving::kLogLevels))));
   app.set_version_flag("--version", std::string("cmmcomp-agent ") + CMMCOMP_VERSION_STRING);
   CLI11_PARSE(app, argc, argv);
-  if (can->count() == 0 && modbus->count() == 0) {
+  for (CLI::Option* o : {models, can, modbus, unit, policy, level}) {
+    if (config->count() > 0 && o->count() > 0) {
+      std::fprintf(stderr,
+                   "cmmcomp-agent: %s and --config: give every setting in the file\n",
+                   o->get_name().c_str());
+      return 2;
+    }
+  }
+  if (config->count() == 0 && can->count() == 0 && modbus->count() == 0) {
     std::fprintf(stderr,
-                 "cmmcomp-agent: nothing to serve: give --can IFACE and/or --modbus ENDPOINT\n");
+                 "cmmcomp-agent: nothing to serve: give --can IFACE and/or --modbus ENDPOINT, or "
+                 "--config FILE\n");
     return 2;
   }
   try {

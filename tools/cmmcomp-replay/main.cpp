@@ -39,11 +39,12 @@ struct Options {
 
 /// Loads the models as cmmcomp-agent does; false (with the reasons on stderr) when one fails.
 bool load_models(const Options& opt, cmmcomp::compensation::MoveCompensator& compensator) {
-  std::vector<cmmcomp::agent::ModelSlot> slots;
-  for (const std::string& m : opt.models) slots.push_back(cmmcomp::agent::parse_model_argument(m));
-  if (slots.empty()) slots.push_back(cmmcomp::agent::ModelSlot{0, ""});
+  std::vector<cmmcomp::serving::ModelSlot> slots;
+  for (const std::string& m : opt.models)
+    slots.push_back(cmmcomp::serving::parse_model_argument(m));
+  if (slots.empty()) slots.push_back(cmmcomp::serving::ModelSlot{0, ""});
   bool all = true;
-  for (const cmmcomp::agent::SlotOutcome& o : cmmcomp::agent::load_slots(slots, compensator)) {
+  for (const cmmcomp::serving::SlotOutcome& o : cmmcomp::serving::load_slots(slots, compensator)) {
     if (!o.loaded) {
       std::fprintf(stderr,
                    "cmmcomp-replay: axis %d: cannot load %s: %s\n",
@@ -164,7 +165,7 @@ int main(int argc, char** argv) {
                  opt.outside_domain,
                  "as the agent that was recorded: clamp, extrapolate or reject")
       ->capture_default_str()
-      ->check(cmmcomp::agent::domain_policy_name());
+      ->check(cmmcomp::serving::domain_policy_name());
   app.add_option("--modbus-unit", opt.modbus_unit, "the agent's Modbus unit id")
       ->capture_default_str()
       ->check(CLI::Range(1, 247));

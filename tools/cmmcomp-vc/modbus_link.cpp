@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cmmcomp/plugins/modbus_register_map.hpp>
+#include <cmmcomp/plugins/modbus_server.hpp>
 #include <cstring>
 
 #include "modbus_relay.hpp"
@@ -20,37 +21,19 @@ struct ModbusLink::Impl {
   modbus_t* ctx = nullptr;
 };
 
-void parse_tcp_endpoint(const std::string& text, std::string& host, int& port) {
-  const std::string bad = "Modbus endpoint '" + text + "': expected tcp:HOST:PORT";
-  if (text.rfind("tcp:", 0) != 0) throw ConfigError(bad);
-  const std::string rest = text.substr(4);
-  const auto colon = rest.rfind(':');
-  if (colon == std::string::npos || colon == 0) throw ConfigError(bad);
-  host = rest.substr(0, colon);
-  if (host.size() > 2 && host.front() == '[' && host.back() == ']') {
-    host = host.substr(1, host.size() - 2);
-  }
-  const std::string p = rest.substr(colon + 1);
-  std::size_t used = 0;
-  long v = 0;
-  try {
-    v = std::stol(p, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != p.size() || p.empty() || v < 1 || v > 65535) throw ConfigError(bad);
-  port = static_cast<int>(v);
-}
-
 ModbusLink::ModbusLink(std::string label,
                        const std::string& endpoint,
                        int unit_id,
                        int timeout_ms,
                        const std::string& record_path)
     : label_(std::move(label)), where_("modbus " + endpoint), impl_(std::make_unique<Impl>()) {
-  std::string host;
-  int port = 0;
-  parse_tcp_endpoint(endpoint, host, port);
+  // The agent's own endpoint grammar (brackets for IPv6 included); a controller talks TCP.
+  const plugins::ModbusEndpoint where = plugins::ModbusEndpoint::parse(endpoint);
+  if (where.kind != plugins::ModbusEndpoint::Kind::kTcp) {
+    throw ConfigError("Modbus endpoint '" + endpoint + "': expected tcp:HOST:PORT");
+  }
+  const std::string& host = where.host;
+  const int port = where.port;
   if (unit_id < 1 || unit_id > 255) throw ConfigError("--modbus-unit must be 1 … 255");
   if (!record_path.empty()) {
     impl_->relay = std::make_unique<ModbusRecordingRelay>(

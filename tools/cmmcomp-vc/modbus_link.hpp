@@ -10,9 +10,6 @@
 
 namespace cmmcomp::vc {
 
-/// "tcp:HOST:PORT" (HOST may be [v6]) split into host and port. Throws ConfigError.
-void parse_tcp_endpoint(const std::string& text, std::string& host, int& port);
-
 /// Asks one agent over Modbus TCP: one FC23 transaction per move (write holding 0–24, read the
 /// result copy 25–47), so no other client's result can come between (docs/protocol-modbus.md).
 class ModbusLink final : public CorrectionSource {

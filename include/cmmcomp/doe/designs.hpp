@@ -283,7 +283,8 @@ inline std::vector<Factor> paper_table3_factors() {
 }
 
 /// The 18-run design of the paper's experiment (L18, Table 3 levels): paper_table3_factors() on
-/// taguchi_l18() columns paper_l18_assignment(). Setup only.
+/// taguchi_l18() columns paper_l18_assignment(), the project's column choice, not the paper's.
+/// Setup only.
 inline Design paper_l18_design() {
   return assign(taguchi_l18(), paper_table3_factors(), paper_l18_assignment());
 }

@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <exception>
 
-namespace cmmcomp::agent {
+namespace cmmcomp::serving {
 
 ModelSlot parse_model_argument(const std::string& text) {
   ModelSlot slot;
@@ -64,4 +64,4 @@ std::vector<SlotOutcome> load_slots(const std::vector<ModelSlot>& slots,
   return outcomes;
 }
 
-}  // namespace cmmcomp::agent
+}  // namespace cmmcomp::serving

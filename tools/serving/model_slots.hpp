@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace cmmcomp::agent {
+namespace cmmcomp::serving {
 
 /// One `--model [AXIS=]PATH` argument.
 struct ModelSlot {
@@ -36,4 +36,4 @@ struct SlotOutcome {
 std::vector<SlotOutcome> load_slots(const std::vector<ModelSlot>& slots,
                                     compensation::MoveCompensator& compensator);
 
-}  // namespace cmmcomp::agent
+}  // namespace cmmcomp::serving

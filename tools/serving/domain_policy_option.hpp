@@ -7,7 +7,7 @@
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <string>
 
-namespace cmmcomp::agent {
+namespace cmmcomp::serving {
 
 /// CLI11 validator: passes "clamp", "extrapolate" and "reject", names anything else.
 inline CLI::Validator domain_policy_name() {
@@ -21,4 +21,4 @@ inline CLI::Validator domain_policy_name() {
       "POLICY");
 }
 
-}  // namespace cmmcomp::agent
+}  // namespace cmmcomp::serving
