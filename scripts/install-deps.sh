@@ -10,7 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev
   can-utils user-mode-linux kmod iproute2 mbpoll socat gnuplot-nox
-  clang-format
+  clang-format systemd dpkg-dev file
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
   g++-aarch64-linux-gnu qemu-user
   clang libclang-rt-14-dev libomp-14-dev

@@ -43,6 +43,7 @@ using cmmcomp::serving::SlotOutcome;
 /// The command line: either --config FILE, or the serving options themselves.
 struct Options {
   std::string config;
+  bool check = false;  ///< --check: validate the settings and models, then exit
   std::vector<std::string> models;
   std::string can_interface;
   std::string can_base_id =
@@ -208,6 +209,11 @@ int serve(const Options& opt) {
   copt.outside_domain = settings.outside_domain;
   cmmcomp::compensation::MoveCompensator compensator(copt);
   if (!report(cmmcomp::serving::load_slots(slots, compensator), false)) return 2;
+  if (opt.check) {
+    // The buses' endpoints parse (settings() checked them); binding them is for the real start.
+    std::printf("cmmcomp-agent: settings and %zu model(s) are valid\n", slots.size());
+    return 0;
+  }
 
   // Block the signals before any thread starts, so that every thread inherits the mask.
   sigset_t signals;
@@ -322,6 +328,9 @@ int main(int argc, char** argv) {
       opt.config,
       "read every setting from this file (docs/agent.md), e.g. /etc/cmmcomp/agent.toml; SIGHUP "
       "re-reads it. Excludes the options below");
+  app.add_flag("--check",
+               opt.check,
+               "validate the settings and load the models, then exit (0: valid) without serving");
   auto* models =
       app.add_option("--model",
                      opt.models,
