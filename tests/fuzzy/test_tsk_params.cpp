@@ -27,6 +27,20 @@ TEST(TskLayout, PaperCountsAreCompileTimeConstants) {
   SUCCEED();
 }
 
+TEST(TskLayout, RuntimeLayoutIsTheSameArithmetic) {
+  static_assert(RuntimeLayout{4, 3, 4}.param_count() == PaperMulti::kParamCount);
+  static_assert(RuntimeLayout{5, 3, 4}.rules() == 243);
+  const RuntimeLayout r = PaperMulti::kRuntime;
+  for (int i = 0; i < 4; ++i) {
+    for (int set = 0; set < 3; ++set) {
+      EXPECT_EQ(r.centre_index(i, set), PaperMulti::centre_index(i, set));
+      EXPECT_EQ(r.width_index(i, set), PaperMulti::width_index(i, set));
+    }
+  }
+  EXPECT_EQ(r.consequent_index(3, 80, 4), PaperMulti::consequent_index(3, 80, 4));
+  EXPECT_EQ(r.consequent_index(3, 80, 4), PaperMulti::kParamCount - 1);
+}
+
 TEST(TskLayout, BlocksAreContiguousAndInOrder) {
   // Centres and widths set-major: [set][input].
   EXPECT_EQ(Paper::centre_index(0, 0), 0);

@@ -48,6 +48,32 @@ constexpr int checked_pow(int base, int exponent) noexcept {
 
 }  // namespace detail
 
+/// The flat layout's index arithmetic for sizes known only at run time (the model file's
+/// reader and writer). TskLayout's compile-time functions are this same formula.
+struct RuntimeLayout {
+  int inputs;   ///< inputs of the network
+  int sets;     ///< Gaussian sets per input
+  int outputs;  ///< outputs (consequent blocks)
+
+  /// sets^inputs; -1 above 2^20.
+  constexpr int rules() const noexcept { return detail::checked_pow(sets, inputs); }
+  /// Consequent terms per rule and output: the constant and one coefficient per input.
+  constexpr int terms() const noexcept { return inputs + 1; }
+  constexpr int widths_offset() const noexcept { return inputs * sets; }
+  constexpr int consequents_offset() const noexcept { return 2 * inputs * sets; }
+  /// 2·inputs·sets + outputs·rules·(inputs + 1).
+  constexpr int param_count() const noexcept {
+    return consequents_offset() + outputs * rules() * terms();
+  }
+  constexpr int centre_index(int input, int set) const noexcept { return set * inputs + input; }
+  constexpr int width_index(int input, int set) const noexcept {
+    return widths_offset() + set * inputs + input;
+  }
+  constexpr int consequent_index(int output, int rule, int term) const noexcept {
+    return consequents_offset() + (rule * outputs + output) * terms() + term;
+  }
+};
+
 /// Sizes and index arithmetic of a network with `kInputs` inputs, `kSets` Gaussian sets per
 /// input and `kOutputs` outputs sharing one premise (kOutputs = 1 is the paper's form).
 template <int kInputs, int kSets, int kOutputs>
@@ -59,32 +85,35 @@ struct TskLayout {
   static constexpr int kInputCount = kInputs;    ///< inputs of the network
   static constexpr int kSetCount = kSets;        ///< Gaussian sets per input
   static constexpr int kOutputCount = kOutputs;  ///< outputs (consequent blocks)
+  /// The same sizes at run time: every index below is its formula.
+  static constexpr RuntimeLayout kRuntime{kInputs, kSets, kOutputs};
   /// Rules: one per combination of sets, kSets^kInputs.
-  static constexpr int kRules = detail::checked_pow(kSets, kInputs);
+  static constexpr int kRules = kRuntime.rules();
   /// Consequent terms per rule and output: the constant and one coefficient per input.
-  static constexpr int kTerms = kInputs + 1;
-  static constexpr int kCentresOffset = 0;                        ///< first centre
-  static constexpr int kWidthsOffset = kInputs * kSets;           ///< first width
-  static constexpr int kConsequentsOffset = 2 * kInputs * kSets;  ///< first consequent
+  static constexpr int kTerms = kRuntime.terms();
+  static constexpr int kCentresOffset = 0;                                  ///< first centre
+  static constexpr int kWidthsOffset = kRuntime.widths_offset();            ///< first width
+  static constexpr int kConsequentsOffset = kRuntime.consequents_offset();  ///< first consequent
   /// Consequent values of one output, kRules·kTerms.
   static constexpr int kConsequentBlock = kRules * kTerms;
   /// Consequent values of one rule, all outputs: kOutputs·kTerms (contiguous).
   static constexpr int kRuleBlock = kOutputs * kTerms;
   /// Total number of parameters: 2·kInputs·kSets + kOutputs·kRules·(kInputs + 1).
-  static constexpr int kParamCount = kConsequentsOffset + kOutputs * kConsequentBlock;
+  static constexpr int kParamCount = kRuntime.param_count();
+  static_assert(kParamCount == kConsequentsOffset + kOutputs * kConsequentBlock);
 
   /// Flat index of the centre of set `set` of input `input`.
   static constexpr int centre_index(int input, int set) noexcept {
-    return kCentresOffset + set * kInputs + input;
+    return kRuntime.centre_index(input, set);
   }
   /// Flat index of the width σ of set `set` of input `input`.
   static constexpr int width_index(int input, int set) noexcept {
-    return kWidthsOffset + set * kInputs + input;
+    return kRuntime.width_index(input, set);
   }
   /// Flat index of consequent term `term` (0 = constant, 1 + i = coefficient of input i) of
   /// rule `rule` for output `output`.
   static constexpr int consequent_index(int output, int rule, int term) noexcept {
-    return kConsequentsOffset + (rule * kOutputs + output) * kTerms + term;
+    return kRuntime.consequent_index(output, rule, term);
   }
   /// The set rule `rule` uses for input `input`: digit `input` of `rule` in base kSets, input 0
   /// being the most significant digit.

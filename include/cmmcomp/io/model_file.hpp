@@ -9,11 +9,14 @@
 /// validates everything and throws ConfigError "source: where: what is wrong".
 ///
 /// Everything here is Setup only (allocates, may throw). The JSON library stays inside
-/// src/io/model_file.cpp; the templates below only convert to and from a runtime struct.
+/// src/io/model_file_json.cpp (the header export is src/io/model_header_export.cpp, the checksum
+/// src/io/sha256.cpp); the templates below only convert to and from a runtime struct.
 #pragma once
 
 #include <array>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
+#include <cmmcomp/io/file_io.hpp>
+#include <cmmcomp/io/sha256.hpp>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -93,8 +96,10 @@ std::string export_model_header(const ModelData& data, const std::string& symbol
 std::string export_model_c_source(const ModelData& data,
                                   const std::string& symbol_name,
                                   bool single);
-std::string read_text_file(const std::string& path, const char* what);
-void write_text_file(const std::string& path, const std::string& text);
+/// A model file's text: a bounded read (io::read_file_bounded, kMaxModelFileBytes).
+inline std::string read_text_file(const std::string& path, const char* what) {
+  return read_file_bounded(path, what, kMaxModelFileBytes);
+}
 
 template <int kInputs, int kSets, int kOutputs>
 ModelData to_data(const ModelFile<kInputs, kSets, kOutputs>& file) {
@@ -174,7 +179,7 @@ template <int kInputs, int kSets, int kOutputs>
 std::string save_model_file(const std::string& path,
                             const ModelFile<kInputs, kSets, kOutputs>& file) {
   const std::string text = format_model_json(file);
-  detail::write_text_file(path, text);
+  write_file_atomically(path, text);
   return parse_model_json<kInputs, kSets, kOutputs>(text, path).model_id;
 }
 
@@ -213,11 +218,6 @@ std::string export_model_c_source(const ModelFile<kInputs, kSets, kOutputs>& fil
 /// throws ConfigError.
 ModelArchitecture read_model_architecture(const std::string& text, const std::string& source);
 
-/// SHA-256 of `bytes`, 64 lower-case hex digits (FIPS 180-4).
-std::string sha256_hex(const std::string& bytes);
-/// SHA-256 of a file's bytes (for `ModelMetadata::data_file_sha256`). Throws ConfigError when
-/// the file cannot be read.
-std::string sha256_file_hex(const std::string& path);
 /// The current time as ISO-8601 UTC with whole seconds, `YYYY-MM-DDTHH:MM:SSZ`.
 std::string utc_timestamp_now();
 

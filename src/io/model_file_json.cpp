@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @file The versioned JSON model file: writing, validation, checksum, constexpr header export.
+/// @file The versioned JSON model file: content checks, writing, the checksum rule, reading.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -8,6 +8,7 @@
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/io/sha256.hpp>
 #include <cstdint>
 #include <cstdio>
 #include <ctime>
@@ -16,112 +17,21 @@
 #include <set>
 #include <sstream>
 
+#include "model_file_internal.hpp"
+
 namespace cmmcomp::io {
 namespace {
 
+using detail::centre_index;
+using detail::consequent_index;
+using detail::param_count;
+using detail::rules_of;
+using detail::width_index;
 using Json = nlohmann::json;                 // keys sorted: the canonical form for the checksum
 using OrderedJson = nlohmann::ordered_json;  // keys in writing order: the file a human reads
 
 // ---------------------------------------------------------------------------------------------
-// SHA-256 (FIPS 180-4). Small and dependency-free; speed is irrelevant for model files.
-
-class Sha256 {
- public:
-  void update(const unsigned char* p, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) {
-      block_[fill_++] = p[i];
-      if (fill_ == 64) {
-        compress();
-        fill_ = 0;
-      }
-    }
-    length_ += n;
-  }
-  std::string hex() {
-    const std::uint64_t bits = length_ * 8u;
-    const unsigned char pad = 0x80;
-    update(&pad, 1);
-    const unsigned char zero = 0;
-    while (fill_ != 56) update(&zero, 1);
-    for (int i = 7; i >= 0; --i) {
-      const auto b = static_cast<unsigned char>(bits >> (8 * i));
-      update(&b, 1);
-    }
-    std::string out;
-    for (std::uint32_t v : h_) out += fmt::format("{:08x}", v);
-    return out;
-  }
-
- private:
-  static std::uint32_t rotr(std::uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
-  void compress() {
-    static constexpr std::array<std::uint32_t, 64> k = {
-        0x428a2f98, 0x71374491, 0xb5c0fbcf, 0xe9b5dba5, 0x3956c25b, 0x59f111f1, 0x923f82a4,
-        0xab1c5ed5, 0xd807aa98, 0x12835b01, 0x243185be, 0x550c7dc3, 0x72be5d74, 0x80deb1fe,
-        0x9bdc06a7, 0xc19bf174, 0xe49b69c1, 0xefbe4786, 0x0fc19dc6, 0x240ca1cc, 0x2de92c6f,
-        0x4a7484aa, 0x5cb0a9dc, 0x76f988da, 0x983e5152, 0xa831c66d, 0xb00327c8, 0xbf597fc7,
-        0xc6e00bf3, 0xd5a79147, 0x06ca6351, 0x14292967, 0x27b70a85, 0x2e1b2138, 0x4d2c6dfc,
-        0x53380d13, 0x650a7354, 0x766a0abb, 0x81c2c92e, 0x92722c85, 0xa2bfe8a1, 0xa81a664b,
-        0xc24b8b70, 0xc76c51a3, 0xd192e819, 0xd6990624, 0xf40e3585, 0x106aa070, 0x19a4c116,
-        0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
-        0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7,
-        0xc67178f2};
-    std::array<std::uint32_t, 64> w{};
-    for (std::size_t t = 0; t < 16; ++t) {
-      w[t] = (std::uint32_t{block_[4 * t]} << 24) | (std::uint32_t{block_[4 * t + 1]} << 16) |
-             (std::uint32_t{block_[4 * t + 2]} << 8) | std::uint32_t{block_[4 * t + 3]};
-    }
-    for (std::size_t t = 16; t < 64; ++t) {
-      const std::uint32_t s0 = rotr(w[t - 15], 7) ^ rotr(w[t - 15], 18) ^ (w[t - 15] >> 3);
-      const std::uint32_t s1 = rotr(w[t - 2], 17) ^ rotr(w[t - 2], 19) ^ (w[t - 2] >> 10);
-      w[t] = w[t - 16] + s0 + w[t - 7] + s1;
-    }
-    std::array<std::uint32_t, 8> v = h_;
-    for (std::size_t t = 0; t < 64; ++t) {
-      const std::uint32_t s1 = rotr(v[4], 6) ^ rotr(v[4], 11) ^ rotr(v[4], 25);
-      const std::uint32_t ch = (v[4] & v[5]) ^ (~v[4] & v[6]);
-      const std::uint32_t t1 = v[7] + s1 + ch + k[t] + w[t];
-      const std::uint32_t s0 = rotr(v[0], 2) ^ rotr(v[0], 13) ^ rotr(v[0], 22);
-      const std::uint32_t maj = (v[0] & v[1]) ^ (v[0] & v[2]) ^ (v[1] & v[2]);
-      const std::uint32_t t2 = s0 + maj;
-      v = {t1 + t2, v[0], v[1], v[2], v[3] + t1, v[4], v[5], v[6]};
-    }
-    for (std::size_t i = 0; i < 8; ++i) h_[i] += v[i];
-  }
-
-  std::array<std::uint32_t, 8> h_ = {0x6a09e667,
-                                     0xbb67ae85,
-                                     0x3c6ef372,
-                                     0xa54ff53a,
-                                     0x510e527f,
-                                     0x9b05688c,
-                                     0x1f83d9ab,
-                                     0x5be0cd19};
-  std::array<unsigned char, 64> block_{};
-  std::size_t fill_ = 0;
-  std::uint64_t length_ = 0;
-};
-
-// ---------------------------------------------------------------------------------------------
 // Shared checks and helpers.
-
-int rules_of(int inputs, int sets) {
-  const int r = fuzzy::detail::checked_pow(sets, inputs);
-  return r;
-}
-int param_count(int inputs, int sets, int outputs) {
-  return 2 * inputs * sets + outputs * rules_of(inputs, sets) * (inputs + 1);
-}
-// Flat indices; must equal TskLayout's (tests compare them through the typed accessors).
-std::size_t centre_index(const detail::ModelData& d, int i, int s) {
-  return static_cast<std::size_t>(s * d.inputs + i);
-}
-std::size_t width_index(const detail::ModelData& d, int i, int s) {
-  return static_cast<std::size_t>(d.inputs * d.sets + s * d.inputs + i);
-}
-std::size_t consequent_index(const detail::ModelData& d, int o, int j, int k) {
-  return static_cast<std::size_t>(2 * d.inputs * d.sets + (j * d.outputs + o) * (d.inputs + 1) + k);
-}
 
 std::string idx(int i) { return "[" + std::to_string(i) + "]"; }
 
@@ -648,32 +558,16 @@ class CanonicalNumbers {
   std::vector<Frame> frames_;
 };
 
-std::string double_literal(double v) {
-  std::array<char, 40> buf{};
-  std::snprintf(buf.data(), buf.size(), "%.17g", v);
-  std::string s(buf.data());
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-  return s;
-}
-
-// The float nearest to `v`, in the shortest text that reads back as that float, as a C float
-// literal: what a float model's exported source holds (fuzzy::convert_model's rounding).
-std::string float_literal(double v) {
-  std::string s = fmt::format("{}", static_cast<float>(v));
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-  return s + "f";
-}
-
-bool is_identifier(const std::string& s) {
-  if (s.empty() || (s[0] >= '0' && s[0] <= '9')) return false;
-  return std::all_of(s.begin(), s.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-  });
-}
-
 }  // namespace
 
 namespace detail {
+
+void check_model_data(const ModelData& data, const std::string& where) {
+  check_sizes(data);
+  check_content(data, where);
+}
+
+std::string content_checksum(const ModelData& data) { return checksum_of(to_json<Json>(data)); }
 
 std::string format_model_json(const ModelData& data) {
   check_sizes(data);
@@ -820,242 +714,11 @@ ModelData parse_model_json(const std::string& text,
   return d;
 }
 
-// The flat parameter block in its own order (tsk_params.hpp), one literal per value: set-major
-// centres and widths, then the consequents rule by rule, every output of a rule together.
-template <typename Literal>
-void append_flat_block(std::string& h, const ModelData& data, Literal&& literal) {
-  const int rules = rules_of(data.inputs, data.sets);
-  for (int s = 0; s < data.sets; ++s) {
-    h += "         // centres of set " + std::to_string(s) + ", inputs 0.." +
-         std::to_string(data.inputs - 1) + "\n        ";
-    for (int i = 0; i < data.inputs; ++i)
-      h += " " + literal(data.params[centre_index(data, i, s)]) + ",";
-    h += "\n";
-  }
-  for (int s = 0; s < data.sets; ++s) {
-    h += "         // widths of set " + std::to_string(s) + ", inputs 0.." +
-         std::to_string(data.inputs - 1) + "\n        ";
-    for (int i = 0; i < data.inputs; ++i)
-      h += " " + literal(data.params[width_index(data, i, s)]) + ",";
-    h += "\n";
-  }
-  h += "         // consequents [rule][output][term 0 = constant, 1 + i = input i]\n";
-  for (int j = 0; j < rules; ++j) {
-    for (int o = 0; o < data.outputs; ++o) {
-      h += "        ";
-      for (int k = 0; k <= data.inputs; ++k) {
-        h += " " + literal(data.params[consequent_index(data, o, j, k)]) + ",";
-      }
-      h += "  // rule " + std::to_string(j) + ", output " + std::to_string(o) + "\n";
-    }
-  }
-}
-
-std::string export_model_header(const ModelData& data,
-                                const std::string& symbol_name,
-                                bool single) {
-  if (!is_identifier(symbol_name)) {
-    throw ConfigError("export_model_header: symbol name '" + symbol_name +
-                      "' is not a C identifier");
-  }
-  check_sizes(data);
-  check_content(data, "model to export");
-  const std::string checksum = checksum_of(to_json<Json>(data));
-  const std::string id = checksum.substr(0, 16);
-  const int rules = rules_of(data.inputs, data.sets);
-  const ModelMetadata& t = data.training;
-  std::string h;
-  auto out = std::back_inserter(h);
-  fmt::format_to(out,
-                 "// SPDX-License-Identifier: MIT\n"
-                 "// clang-format off\n"
-                 "/// @file T-S model {0}, generated by cmmcomp::io::export_model_header. Do not "
-                 "edit.\n"
-                 "///\n"
-                 "/// Model file format {1} version {2} (docs/model-file.md).\n"
-                 "/// checksum (SHA-256): {3}\n"
-                 "/// architecture: {4} inputs x {5} gaussian sets, {6} rules, first-order "
-                 "consequents, {7} outputs, {8} parameters\n"
-                 "/// inputs (normalised over [lo, hi]):\n",
-                 id,
-                 kModelFileFormat,
-                 kModelFileVersion,
-                 checksum,
-                 data.inputs,
-                 data.sets,
-                 rules,
-                 data.outputs,
-                 param_count(data.inputs, data.sets, data.outputs));
-  for (std::size_t i = 0; i < data.input_names.size(); ++i) {
-    fmt::format_to(out,
-                   "///   {}: name \"{}\", unit [{}], lo {}, hi {}\n",
-                   i,
-                   data.input_names[i],
-                   data.input_units[i],
-                   double_literal(data.ranges[i].lo),
-                   double_literal(data.ranges[i].hi));
-  }
-  fmt::format_to(out, "/// outputs:\n");
-  for (std::size_t o = 0; o < data.output_names.size(); ++o) {
-    fmt::format_to(out,
-                   "///   {}: name \"{}\", unit [{}], cv_rmse {}\n",
-                   o,
-                   data.output_names[o],
-                   data.output_units[o],
-                   double_literal(t.cv_rmse[o]));
-  }
-  fmt::format_to(
-      out,
-      "/// training: method \"{}\", lambda {}, seed {}, trained_at {}, tool \"{}\", "
-      "data_file_sha256 \"{}\"\n"
-      "#pragma once\n\n"
-      "#include <cmmcomp/fuzzy/tsk_evaluator.hpp>\n\n"
-      "/// Model id: first 16 hex digits of the checksum.\n"
-      "inline constexpr char {}_model_id[] = \"{}\";\n"
-      "/// SHA-256 of the model file content (docs/model-file.md, checksum rule).\n"
-      "inline constexpr char {}_checksum[] = \"{}\";\n\n"
-      "/// The network{}; evaluate it with cmmcomp::fuzzy::evaluate.\n"
-      "inline constexpr cmmcomp::fuzzy::TskModel<{}, {}, {}, {}> {} = {{\n"
-      "    // ranges {{lo, hi}} of each input\n"
-      "    {{{{\n",
-      t.method,
-      double_literal(t.lambda),
-      t.seed,
-      t.trained_at,
-      t.tool_version,
-      t.data_file_sha256,
-      symbol_name,
-      id,
-      symbol_name,
-      checksum,
-      single ? " in float (each parameter the float nearest the model file's double)" : "",
-      single ? "float" : "double",
-      data.inputs,
-      data.sets,
-      data.outputs,
-      symbol_name);
-  for (const fuzzy::InputRange& r : data.ranges) {
-    fmt::format_to(out, "        {{{}, {}}},\n", double_literal(r.lo), double_literal(r.hi));
-  }
-  h += "    }},\n"
-       "    // parameters: empty TskLayout base, then the flat block (layout in tsk_params.hpp)\n"
-       "    {{},\n"
-       "     {{\n";
-  if (single) {
-    append_flat_block(h, data, float_literal);
-  } else {
-    append_flat_block(h, data, double_literal);
-  }
-  h += "     }}}};\n"
-       "// clang-format on\n";
-  return h;
-}
-
-std::string export_model_c_source(const ModelData& data,
-                                  const std::string& symbol_name,
-                                  bool single) {
-  if (!is_identifier(symbol_name)) {
-    throw ConfigError("export_model_c_source: symbol name '" + symbol_name +
-                      "' is not a C identifier");
-  }
-  check_sizes(data);
-  check_content(data, "model to export");
-  if (data.sets != 3 || data.outputs != 4 || (data.inputs != 4 && data.inputs != 5)) {
-    throw ConfigError(
-        "export_model_c_source: the firmware C ABI serves 4- or 5-input, 3-set, "
-        "4-output models");
-  }
-  const std::string checksum = checksum_of(to_json<Json>(data));
-  const std::string id = checksum.substr(0, 16);
-  std::string h;
-  auto out = std::back_inserter(h);
-  fmt::format_to(
-      out,
-      "/* SPDX-License-Identifier: MIT */\n"
-      "/* clang-format off */\n"
-      "/* T-S model {0} for the firmware C ABI (cmmcomp/compensator_fw.h), generated by\n"
-      " * cmmcomp::io::export_model_c_source. Do not edit.\n"
-      " * Model file format {1} version {2}; checksum (SHA-256) {3}.\n"
-      " * {4} inputs x 3 gaussian sets, 4 outputs; parameters in {5}. */\n"
-      "#include <cmmcomp/compensator_fw.h>\n\n"
-      "#if CMMCOMP_FW_INPUTS != {4}\n"
-      "#error \"this model has {4} inputs: build with CMMCOMP_FW_INPUTS={4}\"\n"
-      "#endif\n"
-      "/* The parameters are {5}: the build must say CMMCOMP_FW_SCALAR={5}. */\n"
-      "typedef char {6}_scalar_is_{5}[sizeof(CMMCOMP_FW_SCALAR) == {7} ? 1 : -1];\n\n"
-      "/* Model id: first 16 hex digits of the checksum (cmmcomp_fw_publish's model_id). */\n"
-      "const uint64_t {6}_id = 0x{0}u;\n\n"
-      "const cmmcomp_fw_model {6} = {{\n"
-      "    /* ranges {{lo, hi}} of each input */\n"
-      "    {{\n",
-      id,
-      kModelFileFormat,
-      kModelFileVersion,
-      checksum,
-      data.inputs,
-      single ? "float" : "double",
-      symbol_name,
-      single ? 4 : 8);
-  for (std::size_t i = 0; i < data.ranges.size(); ++i) {
-    fmt::format_to(out,
-                   "        {{{}, {}}},  /* {} [{}] */\n",
-                   double_literal(data.ranges[i].lo),
-                   double_literal(data.ranges[i].hi),
-                   data.input_names[i],
-                   data.input_units[i]);
-  }
-  h += "    },\n"
-       "    /* parameters: the flat block (layout in tsk_params.hpp) */\n"
-       "    {\n";
-  if (single) {
-    append_flat_block(h, data, float_literal);
-  } else {
-    append_flat_block(h, data, double_literal);
-  }
-  h += "    }};\n"
-       "/* clang-format on */\n";
-  // The block's comments are C++ style: rewrite them for C99's sake of style consistency.
-  std::string c;
-  c.reserve(h.size());
-  for (std::size_t pos = 0; pos < h.size();) {
-    const std::size_t slash = h.find("// ", pos);
-    const std::size_t eol = h.find('\n', pos);
-    if (slash != std::string::npos && slash < eol) {
-      c.append(h, pos, slash - pos);
-      c += "/* " + h.substr(slash + 3, eol - slash - 3) + " */";
-      pos = eol;
-    } else {
-      const std::size_t end = eol == std::string::npos ? h.size() : eol + 1;
-      c.append(h, pos, end - pos);
-      pos = end;
-    }
-  }
-  return c;
-}
-
-std::string read_text_file(const std::string& path, const char* what) {
-  return read_file_bounded(path, what, kMaxModelFileBytes);
-}
-
-void write_text_file(const std::string& path, const std::string& text) {
-  write_file_atomically(path, text);
-}
-
 }  // namespace detail
 
 ModelArchitecture read_model_architecture(const std::string& text, const std::string& source) {
   const Json doc = parse_document(text, source);
   return read_header(doc, Reader(source));
-}
-
-std::string sha256_hex(const std::string& bytes) {
-  Sha256 h;
-  h.update(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
-  return h.hex();
-}
-
-std::string sha256_file_hex(const std::string& path) {
-  return sha256_hex(read_file_bounded(path, "file", kMaxTextFileBytes));
 }
 
 std::string utc_timestamp_now() {
