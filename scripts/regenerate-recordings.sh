@@ -39,6 +39,7 @@ for spec in "${models[@]}"; do
   started=""
   for attempt in $(seq 0 19); do
     port=$(( 20000 + ($$ * 31 + attempt * 977) % 30000 ))
+    : >"$work/agent.log"  # exists before the background job runs and opens it
     "$agent" --modbus "tcp:127.0.0.1:$port" --model "$model" >"$work/agent.log" 2>&1 &
     agent_pid=$!
     for _ in $(seq 100); do

@@ -18,6 +18,8 @@ cleanup() {
 trap cleanup EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
+# The file exists before the server starts: the background job opens it only when it runs.
+: >"$work/server.out"
 "$server_exe" >"$work/server.out" 2>&1 &
 server_pid=$!
 port=
