@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cmmcomp/dynamics/integrator.hpp>
+#include <cmmcomp/error.hpp>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -80,11 +81,11 @@ Integrator::Integrator(const IntegratorOptions& options,
                        int root_count)
     : impl_(std::make_unique<Impl>()) {
   std::string why;
-  if (!options.is_valid(&why)) throw std::invalid_argument("IntegratorOptions: " + why);
-  if (rhs == nullptr) throw std::invalid_argument("Integrator: no right-hand side");
-  if (state_size < 1) throw std::invalid_argument("Integrator: state_size must be >= 1");
+  if (!options.is_valid(&why)) throw ConfigError("IntegratorOptions: " + why);
+  if (rhs == nullptr) throw ConfigError("Integrator: no right-hand side");
+  if (state_size < 1) throw ConfigError("Integrator: state_size must be >= 1");
   if (root_count < 0 || (root_count > 0 && roots == nullptr)) {
-    throw std::invalid_argument("Integrator: root_count needs a root function");
+    throw ConfigError("Integrator: root_count needs a root function");
   }
   Impl& m = *impl_;
   m.rhs = rhs;
@@ -93,7 +94,7 @@ Integrator::Integrator(const IntegratorOptions& options,
   m.size = state_size;
   m.root_count = root_count;
   auto check = [](bool good, const char* what) {
-    if (!good) throw std::runtime_error(std::string("SUNDIALS: ") + what + " failed");
+    if (!good) throw Error(std::string("SUNDIALS: ") + what + " failed");
   };
   check(SUNContext_Create(nullptr, &m.context) == 0, "SUNContext_Create");
   m.y = N_VNew_Serial(state_size, m.context);

@@ -84,8 +84,7 @@ std::vector<DatasetRow> rows_from_design(const doe::Design& design, const FixedS
   const int ad = design.find_factor("AD");
   const int y = design.find_factor("Y");  // optional
   if (pv < 0 || pd < 0 || av < 0 || ad < 0 || design.factors() != (y < 0 ? 4 : 5)) {
-    throw std::invalid_argument(
-        "a move design needs exactly the factors PV, PD, AV, AD and optionally Y");
+    throw ConfigError("a move design needs exactly the factors PV, PD, AV, AD and optionally Y");
   }
   std::vector<DatasetRow> rows;
   rows.reserve(static_cast<std::size_t>(design.runs()));

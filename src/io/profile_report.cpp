@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmmcomp/error.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <stdexcept>
 #include <vector>
@@ -76,7 +77,7 @@ std::string describe_profile(const motion::MoveProfile& profile) {
 }
 
 std::string profile_csv(const motion::MoveProfile& profile, int samples) {
-  if (samples < 2) throw std::invalid_argument("profile_csv: samples must be at least 2");
+  if (samples < 2) throw ConfigError("profile_csv: samples must be at least 2");
   const motion::PhaseInstants& in = profile.instants();
   std::vector<double> times;
   times.reserve(static_cast<std::size_t>(samples) + 4);

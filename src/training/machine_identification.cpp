@@ -422,7 +422,7 @@ AnovaTargets read_anova_targets(const std::string& path) {
     for (std::size_t p = 0; p < 4; ++p) {
       const std::size_t c = static_cast<std::size_t>(column[cols[p]]);
       try {
-        if (c >= cells.size()) throw std::invalid_argument("short row");
+        if (c >= cells.size()) throw ConfigError("short row");
         t.weight_pct[p][static_cast<std::size_t>(source)] = std::stod(cells[c]);
       } catch (const std::exception&) {
         throw ConfigError(
@@ -473,7 +473,7 @@ GridMeanTargets read_grid_mean_targets(const std::string& path) {
         }
         try {
           const double v = std::stod(at(mean_col));
-          if (!(v > 0.0 && std::isfinite(v))) throw std::invalid_argument("not positive");
+          if (!(v > 0.0 && std::isfinite(v))) throw ConfigError("not positive");
           t.mean_um[static_cast<std::size_t>(p)] = v;
         } catch (const std::exception&) {
           throw ConfigError(

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/error.hpp>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -319,18 +320,18 @@ TEST(Anova, PaperTable4FValuesFollowFromItsWeights) {
 
 TEST(Anova, RejectsBadInput) {
   const Design d = hand_design();
-  EXPECT_THROW(anova(d, std::vector<double>(8, 1.0)), std::invalid_argument);
+  EXPECT_THROW(anova(d, std::vector<double>(8, 1.0)), cmmcomp::ConfigError);
   std::vector<double> y = kHandY;
   y[3] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(anova(d, y), std::invalid_argument);
-  EXPECT_THROW(anova(latin_hypercube({"a"}, {0}, {1}, 9, 1), kHandY), std::invalid_argument);
+  EXPECT_THROW(anova(d, y), cmmcomp::ConfigError);
+  EXPECT_THROW(anova(latin_hypercube({"a"}, {0}, {1}, 9, 1), kHandY), cmmcomp::ConfigError);
 
   AnovaOptions bad;
   bad.pool_below_percent = -1.0;
-  EXPECT_THROW(anova(d, kHandY, bad), std::invalid_argument);
+  EXPECT_THROW(anova(d, kHandY, bad), cmmcomp::ConfigError);
   AnovaOptions unknown;
   unknown.pool_factors = {"Z"};
-  EXPECT_THROW(anova(d, kHandY, unknown), std::invalid_argument);
+  EXPECT_THROW(anova(d, kHandY, unknown), cmmcomp::ConfigError);
 
   // A missing run unbalances A.
   Design missing = d;
@@ -340,7 +341,7 @@ TEST(Anova, RejectsBadInput) {
   try {
     anova(missing, std::vector<double>(8, 1.0));
     ADD_FAILURE() << "no exception";
-  } catch (const std::invalid_argument& e) {
+  } catch (const cmmcomp::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("not balanced"), std::string::npos) << e.what();
   }
   // Both factors balanced, but not orthogonal to each other.
@@ -350,15 +351,15 @@ TEST(Anova, RejectsBadInput) {
   try {
     anova(skew, kHandY);
     ADD_FAILURE() << "no exception";
-  } catch (const std::invalid_argument& e) {
+  } catch (const cmmcomp::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("'A' and 'B' are not orthogonal"), std::string::npos)
         << e.what();
   }
   // SS-only form: factors exceeding the total, bad dof.
-  EXPECT_THROW(anova_from_sums_of_squares({"a"}, {2.0}, {1}, 1.0, 3), std::invalid_argument);
-  EXPECT_THROW(anova_from_sums_of_squares({"a"}, {0.5}, {0}, 1.0, 3), std::invalid_argument);
-  EXPECT_THROW(anova_from_sums_of_squares({"a"}, {0.5}, {4}, 1.0, 3), std::invalid_argument);
-  EXPECT_THROW(AnovaTable{}.factor("x"), std::invalid_argument);
+  EXPECT_THROW(anova_from_sums_of_squares({"a"}, {2.0}, {1}, 1.0, 3), cmmcomp::ConfigError);
+  EXPECT_THROW(anova_from_sums_of_squares({"a"}, {0.5}, {0}, 1.0, 3), cmmcomp::ConfigError);
+  EXPECT_THROW(anova_from_sums_of_squares({"a"}, {0.5}, {4}, 1.0, 3), cmmcomp::ConfigError);
+  EXPECT_THROW(AnovaTable{}.factor("x"), cmmcomp::ConfigError);
 }
 
 TEST(Anova, FormatsATable) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/error.hpp>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -22,13 +23,13 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Expects `fn` to throw std::invalid_argument whose message contains `part`.
+// Expects `fn` to throw cmmcomp::ConfigError whose message contains `part`.
 template <typename Fn>
 void expect_invalid(Fn fn, const std::string& part) {
   try {
     fn();
     ADD_FAILURE() << "no exception; expected one mentioning '" << part << "'";
-  } catch (const std::invalid_argument& e) {
+  } catch (const cmmcomp::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
   }
 }
@@ -271,7 +272,7 @@ TEST(Design, IsValidExplainsProblems) {
   EXPECT_FALSE(bad.is_valid(nullptr));
   EXPECT_THROW(bad.level(0, 0), std::logic_error);
   EXPECT_THROW(d.value(18, 0), std::out_of_range);
-  EXPECT_THROW(d.factor_index("XX"), std::invalid_argument);
+  EXPECT_THROW(d.factor_index("XX"), cmmcomp::ConfigError);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmmcomp/doe/orthogonal_array.hpp>
+#include <cmmcomp/error.hpp>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -143,12 +144,12 @@ TEST(OrthogonalArray, RowsRoundTrip) {
 }
 
 TEST(OrthogonalArray, ConstructorRejectsBadTables) {
-  EXPECT_THROW(OrthogonalArray("x", {}, {{}}), std::invalid_argument);
-  EXPECT_THROW(OrthogonalArray("x", {2}, {}), std::invalid_argument);
-  EXPECT_THROW(OrthogonalArray("x", {1}, {{0}}), std::invalid_argument);
-  EXPECT_THROW(OrthogonalArray("x", {2, 2}, {{0, 1}, {1}}), std::invalid_argument);
-  EXPECT_THROW(OrthogonalArray("x", {2, 2}, {{0, 2}, {1, 0}}), std::invalid_argument);
-  EXPECT_THROW(OrthogonalArray("x", {2, 2}, {{0, -1}, {1, 0}}), std::invalid_argument);
+  EXPECT_THROW(OrthogonalArray("x", {}, {{}}), cmmcomp::ConfigError);
+  EXPECT_THROW(OrthogonalArray("x", {2}, {}), cmmcomp::ConfigError);
+  EXPECT_THROW(OrthogonalArray("x", {1}, {{0}}), cmmcomp::ConfigError);
+  EXPECT_THROW(OrthogonalArray("x", {2, 2}, {{0, 1}, {1}}), cmmcomp::ConfigError);
+  EXPECT_THROW(OrthogonalArray("x", {2, 2}, {{0, 2}, {1, 0}}), cmmcomp::ConfigError);
+  EXPECT_THROW(OrthogonalArray("x", {2, 2}, {{0, -1}, {1, 0}}), cmmcomp::ConfigError);
   EXPECT_NO_THROW(OrthogonalArray("x", {2, 2}, {{0, 1}, {1, 0}}));
 }
 

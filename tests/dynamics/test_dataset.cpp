@@ -127,13 +127,13 @@ TEST(RowsFromDesign, RejectsADesignWithoutTheMoveFactors) {
                                                    doe::Factor{"PD", {0.04, 0.06}},
                                                    doe::Factor{"AV", {0.008, 0.012}},
                                                    doe::Factor{"XX", {1, 2}}});
-  EXPECT_THROW(rows_from_design(missing, FixedSettings{}), std::invalid_argument);
+  EXPECT_THROW(rows_from_design(missing, FixedSettings{}), cmmcomp::ConfigError);
   const doe::Design extra = doe::full_factorial({doe::Factor{"PV", {0.04, 0.07}},
                                                  doe::Factor{"PD", {0.04, 0.06}},
                                                  doe::Factor{"AV", {0.008, 0.012}},
                                                  doe::Factor{"AD", {0.005, 0.01}},
                                                  doe::Factor{"PA", {0.2, 0.3}}});
-  EXPECT_THROW(rows_from_design(extra, FixedSettings{}), std::invalid_argument);
+  EXPECT_THROW(rows_from_design(extra, FixedSettings{}), cmmcomp::ConfigError);
 }
 
 TEST(SimulateDataset, ResultDoesNotDependOnTheThreadCount) {
@@ -354,11 +354,11 @@ TEST(AnovaOfDataset, RepeatsAreAveraged) {
 TEST(AnovaOfDataset, RejectsVaryingFixedSettings) {
   std::vector<DatasetRow> rows = synthetic_l18();
   rows[3].y_mm += 1.0;
-  EXPECT_THROW(io::anova_of_dataset(rows), std::invalid_argument);
+  EXPECT_THROW(io::anova_of_dataset(rows), cmmcomp::ConfigError);
   rows = synthetic_l18();
   rows[5].pa_mm_s2 += 1.0;
-  EXPECT_THROW(io::anova_of_dataset(rows), std::invalid_argument);
-  EXPECT_THROW(io::anova_of_dataset({}), std::invalid_argument);
+  EXPECT_THROW(io::anova_of_dataset(rows), cmmcomp::ConfigError);
+  EXPECT_THROW(io::anova_of_dataset({}), cmmcomp::ConfigError);
 }
 
 }  // namespace

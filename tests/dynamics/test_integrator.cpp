@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/dynamics/integrator.hpp>
+#include <cmmcomp/error.hpp>
 #include <cmmcomp/status.hpp>
 #include <limits>
 #include <stdexcept>
@@ -180,7 +181,7 @@ TEST(Integrator, InvalidOptionsAreReportedAndRejected) {
     EXPECT_FALSE(o.is_valid(&why)) << what;
     EXPECT_FALSE(why.empty()) << what;
     EXPECT_FALSE(o.is_valid(nullptr)) << what;
-    EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 2), std::invalid_argument) << what;
+    EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 2), cmmcomp::ConfigError) << what;
   };
   std::string why;
   EXPECT_TRUE(IntegratorOptions{}.is_valid(&why)) << why;
@@ -210,11 +211,11 @@ TEST(Integrator, InvalidOptionsAreReportedAndRejected) {
 TEST(Integrator, ConstructorRejectsBadSizesAndMissingFunctions) {
   Oscillator osc;
   const IntegratorOptions o;
-  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 0), std::invalid_argument);
-  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, -3), std::invalid_argument);
-  EXPECT_THROW(Integrator(o, nullptr, &osc, 2), std::invalid_argument);
-  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 2, nullptr, 1), std::invalid_argument);
-  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 2, &velocity_root, -1), std::invalid_argument);
+  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 0), cmmcomp::ConfigError);
+  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, -3), cmmcomp::ConfigError);
+  EXPECT_THROW(Integrator(o, nullptr, &osc, 2), cmmcomp::ConfigError);
+  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 2, nullptr, 1), cmmcomp::ConfigError);
+  EXPECT_THROW(Integrator(o, &oscillator_rhs, &osc, 2, &velocity_root, -1), cmmcomp::ConfigError);
   EXPECT_NO_THROW(Integrator(o, &oscillator_rhs, &osc, 2, nullptr, 0));
 }
 

@@ -2,6 +2,7 @@
 /// @file Reports of a move profile.
 #include <gtest/gtest.h>
 
+#include <cmmcomp/error.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -44,7 +45,7 @@ TEST(ProfileReport, CsvHasHeaderSamplesAndInstants) {
   EXPECT_EQ(rows, 15);
   EXPECT_TRUE(has_accel_end);
   EXPECT_TRUE(has_decel_start);
-  EXPECT_THROW(profile_csv(baseline(), 1), std::invalid_argument);
+  EXPECT_THROW(profile_csv(baseline(), 1), cmmcomp::ConfigError);
 }
 
 }  // namespace

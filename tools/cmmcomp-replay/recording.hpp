@@ -4,6 +4,7 @@
 /// parsers are unit-tested line by line.
 #pragma once
 
+#include <cmmcomp/error.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <istream>
@@ -14,9 +15,9 @@
 namespace cmmcomp::replay {
 
 /// An unreadable recording: what() is "FILE:LINE: what is wrong".
-class RecordingError : public std::runtime_error {
+class RecordingError : public ConfigError {
  public:
-  using std::runtime_error::runtime_error;
+  using ConfigError::ConfigError;
 };
 
 enum class RecordingFormat : std::uint8_t {

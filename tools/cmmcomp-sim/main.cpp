@@ -12,6 +12,7 @@
 #include <cmmcomp/dynamics/dataset.hpp>
 #include <cmmcomp/dynamics/noise.hpp>
 #include <cmmcomp/dynamics/paper_check.hpp>
+#include <cmmcomp/dynamics/trace_csv.hpp>
 #include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_anova.hpp>
 #include <cmmcomp/io/file_io.hpp>
@@ -119,18 +120,7 @@ int run_move(const MoveCommand& cmd) {
         "(CVODE: %ld steps, %ld right-hand-side evaluations)\n", r.stats.steps, r.stats.rhs_evals);
   }
   if (!cmd.trace_path.empty()) {
-    std::string csv =
-        "t_s,commanded_mm,scale_mm,tip_mm,error_um,velocity_mm_s,acceleration_mm_s2\n";
-    for (const TraceSample& s : r.trace) {
-      csv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
-                         s.t_s,
-                         s.commanded_mm,
-                         s.scale_mm,
-                         s.tip_mm,
-                         s.error_um,
-                         s.velocity_mm_s,
-                         s.acceleration_mm_s2);
-    }
+    const std::string csv = cmmcomp::dynamics::format_trace_csv(r.trace);
     cmmcomp::io::write_file_atomically(cmd.trace_path, csv);
   }
   return 0;
@@ -206,50 +196,14 @@ std::vector<cmmcomp::doe::Factor> parse_levels(const std::string& text) {
 }
 
 cmmcomp::doe::Design design_from(const DatasetCommand& cmd) {
-  using namespace cmmcomp::doe;
-  const std::vector<Factor> factors = parse_levels(cmd.levels);
-  auto require_levels = [&factors](std::size_t n, const char* design) {
-    for (const Factor& f : factors) {
-      if (f.levels.size() != n) {
-        throw cmmcomp::ConfigError(fmt::format("--design {} needs {} levels per factor; {} has {}",
-                                               design,
-                                               n,
-                                               f.name,
-                                               f.levels.size()));
-      }
-    }
-  };
-  const bool with_y = factors.size() == 5;
-  if (cmd.design == "l18") {
-    require_levels(3, "l18");
-    std::vector<int> columns = paper_l18_assignment();
-    if (with_y) columns.push_back(5);  // the next free 3-level column
-    return assign(taguchi_l18(), factors, columns);
+  try {
+    return cmmcomp::doe::design_by_name(
+        cmd.design, parse_levels(cmd.levels), cmd.samples, cmd.seed);
+  } catch (const cmmcomp::ConfigError& e) {
+    // The library names the design; the user wrote it as --design.
+    const std::string what = e.what();
+    throw cmmcomp::ConfigError(what.rfind("design ", 0) == 0 ? "--" + what : what);
   }
-  if (with_y && (cmd.design == "l9" || cmd.design == "l27")) {
-    throw cmmcomp::ConfigError("--design " + cmd.design +
-                               " has no column for y; use l18, full or lhs with y levels");
-  }
-  if (cmd.design == "l9") {
-    require_levels(3, "l9");
-    return assign(taguchi_l9(), factors, {0, 1, 2, 3});
-  }
-  if (cmd.design == "l27") {
-    require_levels(3, "l27");
-    return assign(taguchi_l27(), factors, {0, 1, 4, 12});
-  }
-  if (cmd.design == "full") return full_factorial(factors);
-  if (cmd.design == "lhs") {
-    std::vector<std::string> names;
-    std::vector<double> lo, hi;
-    for (const Factor& f : factors) {
-      names.push_back(f.name);
-      lo.push_back(*std::min_element(f.levels.begin(), f.levels.end()));
-      hi.push_back(*std::max_element(f.levels.begin(), f.levels.end()));
-    }
-    return latin_hypercube(names, lo, hi, cmd.samples, cmd.seed);
-  }
-  throw cmmcomp::ConfigError("--design must be one of l18, l9, l27, full, lhs");
 }
 
 int run_dataset(const DatasetCommand& cmd) {

@@ -15,6 +15,7 @@
 #include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/schema.hpp>
+#include <cmmcomp/training/evaluation.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
@@ -110,11 +111,6 @@ int run_fit(const FitCommand& cmd) {
   return 0;
 }
 
-/// Table 5 of one parameter on a test set.
-struct Table5Row {
-  double mean_before = 0, mean_after = 0, reduction_pct = 0, var_after = 0, max_abs = 0;
-};
-
 template <typename Inputs>
 int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
              const std::string& data,
@@ -124,7 +120,7 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
   const auto rows = cmmcomp::io::read_dataset_csv(data);
   const auto samples = cmmcomp::training::samples<Inputs>(rows);
   const std::size_t n = rows.size();
-  std::array<std::vector<double>, 4> measured, predicted;
+  cmmcomp::training::TestSetPredictions p;
   std::size_t outside = 0;
   for (std::size_t i = 0; i < n; ++i) {
     std::array<double, 4> y{};
@@ -136,27 +132,11 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
     }
     if (st == cmmcomp::Status::kOutsideDomain) ++outside;
     for (std::size_t o = 0; o < 4; ++o) {
-      measured[o].push_back(samples.targets[i][o]);
-      predicted[o].push_back(y[o]);
+      p.measured[o].push_back(samples.targets[i][o]);
+      p.predicted[o].push_back(y[o]);
     }
   }
-  std::array<Table5Row, 4> t{};
-  for (std::size_t o = 0; o < 4; ++o) {
-    double sum_before = 0, sum_after = 0, sum_r = 0, sum_r2 = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double r = measured[o][i] - predicted[o][i];
-      sum_before += std::fabs(measured[o][i]);
-      sum_after += std::fabs(r);
-      sum_r += r;
-      sum_r2 += r * r;
-      t[o].max_abs = std::max(t[o].max_abs, std::fabs(r));
-    }
-    t[o].mean_before = sum_before / static_cast<double>(n);
-    t[o].mean_after = sum_after / static_cast<double>(n);
-    t[o].reduction_pct = 100.0 * (t[o].mean_before - t[o].mean_after) / t[o].mean_before;
-    const double mean_r = sum_r / static_cast<double>(n);
-    t[o].var_after = sum_r2 / static_cast<double>(n) - mean_r * mean_r;
-  }
+  const auto t = cmmcomp::training::table5(p);
   if (json) {
     nlohmann::json j;
     for (std::size_t o = 0; o < 4; ++o) {
@@ -201,33 +181,10 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
   if (!plot.empty()) {
     // The paper's Fig. 5: measured, predicted and residual for 50 test samples per parameter.
     const std::string dat = plot + ".dat";
-    std::ofstream out(dat);
-    const std::size_t shown = std::min<std::size_t>(50, n);
-    for (std::size_t i = 0; i < shown; ++i) {
-      const std::size_t k = (i * n) / shown;  // spread over the test set, deterministic
-      out << i + 1;
-      for (std::size_t o = 0; o < 4; ++o) {
-        out << ' ' << measured[o][k] << ' ' << predicted[o][k] << ' '
-            << measured[o][k] - predicted[o][k];
-      }
-      out << '\n';
-    }
-    out.close();
     const std::string gp = plot + ".gp";
-    std::ofstream g(gp);
-    g << "set terminal pngcairo size 1200,900 noenhanced\nset output '" << plot << "'\n"
-      << "set multiplot layout 2,2 title 'Measured, predicted and residual (" << shown
-      << " test samples)'\n";
-    for (std::size_t o = 0; o < 4; ++o) {
-      const std::size_t c = 2 + 3 * o;
-      g << "set title '" << cmmcomp::kErrors[o].label << " [um]'\nset xlabel 'sample'\nset grid\n"
-        << "plot '" << dat << "' using 1:" << c
-        << " with linespoints title 'measured', '' using 1:" << c + 1
-        << " with linespoints title 'predicted', '' using 1:" << c + 2
-        << " with impulses lw 2 title 'residual'\n";
-    }
-    g << "unset multiplot\n";
-    g.close();
+    const cmmcomp::training::Fig5Plot fig = cmmcomp::training::fig5_plot(p, dat, plot);
+    cmmcomp::io::write_file_atomically(dat, fig.data);
+    cmmcomp::io::write_file_atomically(gp, fig.script);
     const std::string command = "gnuplot '" + gp + "'";
     if (std::system(command.c_str()) != 0) {
       throw cmmcomp::Error("gnuplot failed to draw " + plot + " (is gnuplot installed?)");

@@ -23,11 +23,12 @@
 ///     MS > 0 and F = 0 for factors with MS == 0; has_f == true.
 /// Sums of squares below kAnovaRelativeZero * SS_T are rounding noise and are reported as 0.
 ///
-/// Offline code: allocates, throws std::invalid_argument on bad input. Not RT-safe.
+/// Offline code: allocates, throws ConfigError on bad input. Not RT-safe.
 #pragma once
 
 #include <cmath>
 #include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/error.hpp>
 #include <cstddef>
 #include <iomanip>
 #include <limits>
@@ -86,12 +87,12 @@ struct AnovaTable {
   double grand_mean = 0.0;                       ///< mean response (0 for the SS-only form)
   std::vector<std::vector<double>> level_means;  ///< [factor][level] mean response (main effects)
 
-  /// The row of the factor called `name`. @throws std::invalid_argument when there is none.
+  /// The row of the factor called `name`. @throws ConfigError when there is none.
   const AnovaRow& factor(const std::string& name) const {
     for (const auto& row : factors) {
       if (row.source == name) return row;
     }
-    throw std::invalid_argument("AnovaTable: no factor named '" + name + "'");
+    throw ConfigError("AnovaTable: no factor named '" + name + "'");
   }
 };
 
@@ -100,7 +101,7 @@ struct AnovaTable {
 /// total - sum of factors, then pooling and F follow the rules in the file comment. Useful to
 /// re-derive F values from published weights (weights are SS shares, so SS_T = 100 works).
 /// Setup only.
-/// @throws std::invalid_argument for mismatched sizes, empty/repeated names, a negative or
+/// @throws ConfigError for mismatched sizes, empty/repeated names, a negative or
 ///         non-finite SS, a dof < 1, total_dof < sum of factor dofs, factor SS exceeding the
 ///         total beyond rounding, an unknown name in options.pool_factors, or invalid options.
 inline AnovaTable anova_from_sums_of_squares(const std::vector<std::string>& factor_names,
@@ -111,43 +112,43 @@ inline AnovaTable anova_from_sums_of_squares(const std::vector<std::string>& fac
                                              const AnovaOptions& options = {}) {
   const std::string where = "doe::anova: ";
   std::string why;
-  if (!options.is_valid(&why)) throw std::invalid_argument(where + why);
+  if (!options.is_valid(&why)) throw ConfigError(where + why);
   const std::size_t nf = factor_names.size();
-  if (nf == 0) throw std::invalid_argument(where + "no factors");
+  if (nf == 0) throw ConfigError(where + "no factors");
   if (factor_ss.size() != nf || factor_dof.size() != nf) {
-    throw std::invalid_argument(where + "names, sums of squares and dofs differ in size");
+    throw ConfigError(where + "names, sums of squares and dofs differ in size");
   }
   detail::require_unique_names(factor_names, "doe::anova");
   if (!std::isfinite(total_ss) || total_ss < 0.0) {
-    throw std::invalid_argument(where + "total SS must be finite and >= 0");
+    throw ConfigError(where + "total SS must be finite and >= 0");
   }
   int dof_sum = 0;
   double ss_sum = 0.0;
   for (std::size_t f = 0; f < nf; ++f) {
-    if (factor_names[f].empty()) throw std::invalid_argument(where + "empty factor name");
+    if (factor_names[f].empty()) throw ConfigError(where + "empty factor name");
     if (!std::isfinite(factor_ss[f]) || factor_ss[f] < 0.0) {
-      throw std::invalid_argument(where + "SS of '" + factor_names[f] + "' must be finite, >= 0");
+      throw ConfigError(where + "SS of '" + factor_names[f] + "' must be finite, >= 0");
     }
     if (factor_dof[f] < 1) {
-      throw std::invalid_argument(where + "dof of '" + factor_names[f] + "' must be >= 1");
+      throw ConfigError(where + "dof of '" + factor_names[f] + "' must be >= 1");
     }
     dof_sum += factor_dof[f];
     ss_sum += factor_ss[f];
   }
   if (total_dof < dof_sum) {
-    throw std::invalid_argument(where + "total dof " + std::to_string(total_dof) +
-                                " is less than the factors' " + std::to_string(dof_sum));
+    throw ConfigError(where + "total dof " + std::to_string(total_dof) +
+                      " is less than the factors' " + std::to_string(dof_sum));
   }
   const double zero_tol = kAnovaRelativeZero * total_ss;
   double residual = total_ss - ss_sum;
   if (residual < -zero_tol) {
-    throw std::invalid_argument(where + "factor sums of squares exceed the total");
+    throw ConfigError(where + "factor sums of squares exceed the total");
   }
   if (residual <= zero_tol) residual = 0.0;
   for (const auto& name : options.pool_factors) {
     bool found = false;
     for (const auto& n : factor_names) found = found || n == name;
-    if (!found) throw std::invalid_argument(where + "cannot pool unknown factor '" + name + "'");
+    if (!found) throw ConfigError(where + "cannot pool unknown factor '" + name + "'");
   }
 
   const auto percent = [total_ss](double ss) {
@@ -210,7 +211,7 @@ inline AnovaTable anova_from_sums_of_squares(const std::vector<std::string>& fac
 /// f (of `level_counts[f]`) in run r, `responses[r]` the response of run r. The factors must be
 /// mutually orthogonal (each balanced, each pair balanced); runs may be replicates (then the
 /// repeats add error dof). Setup only.
-/// @throws std::invalid_argument for fewer than 2 runs, mismatched sizes, a level out of
+/// @throws ConfigError for fewer than 2 runs, mismatched sizes, a level out of
 ///         range, a non-finite response, a non-orthogonal set of factors (named in the message),
 ///         or the errors of anova_from_sums_of_squares().
 inline AnovaTable anova(const std::vector<std::string>& factor_names,
@@ -221,31 +222,30 @@ inline AnovaTable anova(const std::vector<std::string>& factor_names,
   const std::string where = "doe::anova: ";
   const std::size_t nf = factor_names.size();
   const std::size_t n = responses.size();
-  if (nf == 0) throw std::invalid_argument(where + "no factors");
-  if (level_counts.size() != nf) throw std::invalid_argument(where + "level_counts size mismatch");
-  if (n < 2) throw std::invalid_argument(where + "needs at least 2 runs");
+  if (nf == 0) throw ConfigError(where + "no factors");
+  if (level_counts.size() != nf) throw ConfigError(where + "level_counts size mismatch");
+  if (n < 2) throw ConfigError(where + "needs at least 2 runs");
   if (level_indices.size() != n) {
-    throw std::invalid_argument(where + std::to_string(level_indices.size()) + " runs but " +
-                                std::to_string(n) + " responses");
+    throw ConfigError(where + std::to_string(level_indices.size()) + " runs but " +
+                      std::to_string(n) + " responses");
   }
   for (std::size_t f = 0; f < nf; ++f) {
     if (level_counts[f] < 2) {
-      throw std::invalid_argument(where + "factor '" + factor_names[f] +
-                                  "' has fewer than 2 levels");
+      throw ConfigError(where + "factor '" + factor_names[f] + "' has fewer than 2 levels");
     }
   }
   for (std::size_t r = 0; r < n; ++r) {
     if (!std::isfinite(responses[r])) {
-      throw std::invalid_argument(where + "response of run " + std::to_string(r) + " not finite");
+      throw ConfigError(where + "response of run " + std::to_string(r) + " not finite");
     }
     if (level_indices[r].size() != nf) {
-      throw std::invalid_argument(where + "run " + std::to_string(r) + " has the wrong number of " +
-                                  "level indices");
+      throw ConfigError(where + "run " + std::to_string(r) + " has the wrong number of " +
+                        "level indices");
     }
     for (std::size_t f = 0; f < nf; ++f) {
       if (level_indices[r][f] < 0 || level_indices[r][f] >= level_counts[f]) {
-        throw std::invalid_argument(where + "run " + std::to_string(r) + ": level of '" +
-                                    factor_names[f] + "' out of range");
+        throw ConfigError(where + "run " + std::to_string(r) + ": level of '" + factor_names[f] +
+                          "' out of range");
       }
     }
   }
@@ -262,10 +262,9 @@ inline AnovaTable anova(const std::vector<std::string>& factor_names,
       for (std::size_t r = 0; r < n; ++r) ++count[at(r, f) * lg + (g == f ? 0 : at(r, g))];
       for (const std::size_t c : count) {
         if (c * lf * lg != n) {
-          throw std::invalid_argument(where +
-                                      (g == f ? "factor '" + factor_names[f] + "' is not balanced"
-                                              : "factors '" + factor_names[f] + "' and '" +
-                                                    factor_names[g] + "' are not orthogonal"));
+          throw ConfigError(where + (g == f ? "factor '" + factor_names[f] + "' is not balanced"
+                                            : "factors '" + factor_names[f] + "' and '" +
+                                                  factor_names[g] + "' are not orthogonal"));
         }
       }
     }
@@ -311,18 +310,18 @@ inline AnovaTable anova(const std::vector<std::string>& factor_names,
 }
 
 /// Main-effects ANOVA of a level-based design (design.has_levels) with one response per run.
-/// Setup only. @throws std::invalid_argument for an invalid design, a design without levels,
+/// Setup only. @throws ConfigError for an invalid design, a design without levels,
 ///         responses.size() != design.runs(), or any error of the level-index form.
 inline AnovaTable anova(const Design& design,
                         const std::vector<double>& responses,
                         const AnovaOptions& options = {}) {
   detail::require_valid(design, "doe::anova");
   if (!design.has_levels) {
-    throw std::invalid_argument("doe::anova: the design has no level indices (e.g. an LHS)");
+    throw ConfigError("doe::anova: the design has no level indices (e.g. an LHS)");
   }
   if (responses.size() != design.values.size()) {
-    throw std::invalid_argument("doe::anova: " + std::to_string(design.values.size()) +
-                                " runs but " + std::to_string(responses.size()) + " responses");
+    throw ConfigError("doe::anova: " + std::to_string(design.values.size()) + " runs but " +
+                      std::to_string(responses.size()) + " responses");
   }
   return anova(design.factor_names, design.level_counts, design.level_indices, responses, options);
 }
@@ -337,14 +336,14 @@ struct ReplicateAverage {
 /// Collapses the repeats of a replicated design (rows sharing a run_index, see replicate())
 /// into one row each with the mean response, e.g. the 54 L18 samples into 18 means. Each output
 /// row keeps its run_index. Setup only.
-/// @throws std::invalid_argument for an invalid design, responses.size() != design.runs(), a
+/// @throws ConfigError for an invalid design, responses.size() != design.runs(), a
 ///         non-finite response, or rows with the same run_index but different values/levels.
 inline ReplicateAverage average_replicates(const Design& design,
                                            const std::vector<double>& responses) {
   detail::require_valid(design, "doe::average_replicates");
   if (responses.size() != design.values.size()) {
-    throw std::invalid_argument("doe::average_replicates: " + std::to_string(design.values.size()) +
-                                " runs but " + std::to_string(responses.size()) + " responses");
+    throw ConfigError("doe::average_replicates: " + std::to_string(design.values.size()) +
+                      " runs but " + std::to_string(responses.size()) + " responses");
   }
   ReplicateAverage out;
   out.design.factor_names = design.factor_names;
@@ -354,8 +353,8 @@ inline ReplicateAverage average_replicates(const Design& design,
   std::vector<double> sums;
   for (std::size_t r = 0; r < design.values.size(); ++r) {
     if (!std::isfinite(responses[r])) {
-      throw std::invalid_argument("doe::average_replicates: response of run " + std::to_string(r) +
-                                  " not finite");
+      throw ConfigError("doe::average_replicates: response of run " + std::to_string(r) +
+                        " not finite");
     }
     const int key = design.run_index[r];
     const auto it = slot.find(key);
@@ -371,8 +370,8 @@ inline ReplicateAverage average_replicates(const Design& design,
     const std::size_t k = it->second;
     if (out.design.values[k] != design.values[r] ||
         (design.has_levels && out.design.level_indices[k] != design.level_indices[r])) {
-      throw std::invalid_argument("doe::average_replicates: rows with run_index " +
-                                  std::to_string(key) + " differ in their factor settings");
+      throw ConfigError("doe::average_replicates: rows with run_index " + std::to_string(key) +
+                        " differ in their factor settings");
     }
     sums[k] += responses[r];
     ++out.repeats[k];

@@ -7,12 +7,14 @@
 /// every run, which is what the main-effects ANOVA (anova.hpp) works on. Values are in the
 /// caller's units; paper_table3_factors() gives the paper's levels in SI units.
 ///
-/// Offline code: everything here allocates and throws std::invalid_argument with a readable
+/// Offline code: everything here allocates and throws ConfigError with a readable
 /// reason on bad input. Nothing here is RT-safe.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cmmcomp/doe/orthogonal_array.hpp>
+#include <cmmcomp/error.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cstddef>
@@ -70,10 +72,10 @@ struct Design {
     }
     return -1;
   }
-  /// Index of the factor called `name`. @throws std::invalid_argument when there is none.
+  /// Index of the factor called `name`. @throws ConfigError when there is none.
   int factor_index(const std::string& name) const {
     const int f = find_factor(name);
-    if (f < 0) throw std::invalid_argument("Design: no factor named '" + name + "'");
+    if (f < 0) throw ConfigError("Design: no factor named '" + name + "'");
     return f;
   }
 
@@ -148,22 +150,21 @@ struct Design {
 
 namespace detail {
 
-/// Throws std::invalid_argument("<where>: <reason>") unless design.is_valid().
+/// Throws ConfigError("<where>: <reason>") unless design.is_valid().
 inline void require_valid(const Design& design, const char* where) {
   std::string why;
-  if (!design.is_valid(&why)) throw std::invalid_argument(std::string(where) + ": " + why);
+  if (!design.is_valid(&why)) throw ConfigError(std::string(where) + ": " + why);
 }
 
 inline void require_factor_ok(const Factor& factor, const char* where) {
-  if (factor.name.empty()) throw std::invalid_argument(std::string(where) + ": empty factor name");
+  if (factor.name.empty()) throw ConfigError(std::string(where) + ": empty factor name");
   if (factor.levels.empty()) {
-    throw std::invalid_argument(std::string(where) + ": factor '" + factor.name +
-                                "' has no levels");
+    throw ConfigError(std::string(where) + ": factor '" + factor.name + "' has no levels");
   }
   for (const double v : factor.levels) {
     if (!std::isfinite(v)) {
-      throw std::invalid_argument(std::string(where) + ": factor '" + factor.name +
-                                  "' has a non-finite level");
+      throw ConfigError(std::string(where) + ": factor '" + factor.name +
+                        "' has a non-finite level");
     }
   }
 }
@@ -172,7 +173,7 @@ inline void require_unique_names(const std::vector<std::string>& names, const ch
   std::set<std::string> seen;
   for (const auto& n : names) {
     if (!seen.insert(n).second) {
-      throw std::invalid_argument(std::string(where) + ": factor name '" + n + "' used twice");
+      throw ConfigError(std::string(where) + ": factor name '" + n + "' used twice");
     }
   }
 }
@@ -204,7 +205,7 @@ inline std::vector<int> identity_runs(std::size_t n) {
 /// Puts `factors[i]` on column `columns[i]` of `oa`: run r gets level oa.level(r, columns[i])
 /// of factor i. The result has levels (has_levels == true) and run_index[r] == r.
 /// Setup only.
-/// @throws std::invalid_argument when factors and columns differ in size or are empty, a
+/// @throws ConfigError when factors and columns differ in size or are empty, a
 ///         column is out of range or used twice, a factor's level count differs from its
 ///         column's (the message names the factor), or a factor name is empty, repeated or has
 ///         non-finite levels.
@@ -212,10 +213,10 @@ inline Design assign(const OrthogonalArray& oa,
                      const std::vector<Factor>& factors,
                      const std::vector<int>& columns) {
   constexpr const char* kWhere = "doe::assign";
-  if (factors.empty()) throw std::invalid_argument("doe::assign: no factors");
+  if (factors.empty()) throw ConfigError("doe::assign: no factors");
   if (factors.size() != columns.size()) {
-    throw std::invalid_argument("doe::assign: " + std::to_string(factors.size()) + " factors but " +
-                                std::to_string(columns.size()) + " columns");
+    throw ConfigError("doe::assign: " + std::to_string(factors.size()) + " factors but " +
+                      std::to_string(columns.size()) + " columns");
   }
   std::set<int> used;
   std::vector<std::string> names;
@@ -224,19 +225,18 @@ inline Design assign(const OrthogonalArray& oa,
     detail::require_factor_ok(f, kWhere);
     const int c = columns[i];
     if (c < 0 || c >= oa.columns()) {
-      throw std::invalid_argument("doe::assign: column " + std::to_string(c) + " for factor '" +
-                                  f.name + "' is outside [0, " + std::to_string(oa.columns()) +
-                                  ") of " + oa.name());
+      throw ConfigError("doe::assign: column " + std::to_string(c) + " for factor '" + f.name +
+                        "' is outside [0, " + std::to_string(oa.columns()) + ") of " + oa.name());
     }
     if (!used.insert(c).second) {
-      throw std::invalid_argument("doe::assign: column " + std::to_string(c) + " for factor '" +
-                                  f.name + "' is already used by another factor");
+      throw ConfigError("doe::assign: column " + std::to_string(c) + " for factor '" + f.name +
+                        "' is already used by another factor");
     }
     if (static_cast<int>(f.levels.size()) != oa.levels(c)) {
-      throw std::invalid_argument("doe::assign: factor '" + f.name + "' has " +
-                                  std::to_string(f.levels.size()) + " levels but column " +
-                                  std::to_string(c) + " of " + oa.name() + " has " +
-                                  std::to_string(oa.levels(c)));
+      throw ConfigError("doe::assign: factor '" + f.name + "' has " +
+                        std::to_string(f.levels.size()) + " levels but column " +
+                        std::to_string(c) + " of " + oa.name() + " has " +
+                        std::to_string(oa.levels(c)));
     }
     names.push_back(f.name);
   }
@@ -294,19 +294,19 @@ inline constexpr long long kMaxFullFactorialRuns = 10'000'000;
 
 /// Every combination of the factors' levels, the last factor varying fastest (so the first
 /// run has every factor at level 0). Has levels; run_index[r] == r. Setup only.
-/// @throws std::invalid_argument when there are no factors, a factor has no levels, an empty
+/// @throws ConfigError when there are no factors, a factor has no levels, an empty
 ///         or repeated name or non-finite levels, or the run count exceeds kMaxFullFactorialRuns.
 inline Design full_factorial(const std::vector<Factor>& factors) {
   constexpr const char* kWhere = "doe::full_factorial";
-  if (factors.empty()) throw std::invalid_argument("doe::full_factorial: no factors");
+  if (factors.empty()) throw ConfigError("doe::full_factorial: no factors");
   long long total = 1;
   std::vector<std::string> names;
   for (const Factor& f : factors) {
     detail::require_factor_ok(f, kWhere);
     total *= static_cast<long long>(f.levels.size());
     if (total > kMaxFullFactorialRuns) {
-      throw std::invalid_argument("doe::full_factorial: more than " +
-                                  std::to_string(kMaxFullFactorialRuns) + " runs");
+      throw ConfigError("doe::full_factorial: more than " + std::to_string(kMaxFullFactorialRuns) +
+                        " runs");
     }
     names.push_back(f.name);
   }
@@ -346,23 +346,23 @@ inline Design full_factorial(const std::vector<Factor>& factors) {
 /// i = samples-1 down to 1, swap i with a uniform index in [0, i], drawn by rejection), then one
 /// uniform u in [0, 1) (top 53 bits of a draw) per run r; run r gets
 /// lower + (upper - lower) * (stratum_r + u_r) / samples.
-/// @throws std::invalid_argument when names, lower and upper differ in size or are empty, a
+/// @throws ConfigError when names, lower and upper differ in size or are empty, a
 ///         name is empty or repeated, a bound is not finite, lower > upper, or samples < 1.
 inline Design latin_hypercube(const std::vector<std::string>& names,
                               const std::vector<double>& lower,
                               const std::vector<double>& upper,
                               int samples,
                               std::uint64_t seed) {
-  if (names.empty()) throw std::invalid_argument("doe::latin_hypercube: no factors");
+  if (names.empty()) throw ConfigError("doe::latin_hypercube: no factors");
   if (lower.size() != names.size() || upper.size() != names.size()) {
-    throw std::invalid_argument("doe::latin_hypercube: names, lower and upper differ in size");
+    throw ConfigError("doe::latin_hypercube: names, lower and upper differ in size");
   }
-  if (samples < 1) throw std::invalid_argument("doe::latin_hypercube: samples must be >= 1");
+  if (samples < 1) throw ConfigError("doe::latin_hypercube: samples must be >= 1");
   for (std::size_t f = 0; f < names.size(); ++f) {
-    if (names[f].empty()) throw std::invalid_argument("doe::latin_hypercube: empty factor name");
+    if (names[f].empty()) throw ConfigError("doe::latin_hypercube: empty factor name");
     if (!std::isfinite(lower[f]) || !std::isfinite(upper[f]) || lower[f] > upper[f]) {
-      throw std::invalid_argument("doe::latin_hypercube: factor '" + names[f] +
-                                  "' needs finite bounds with lower <= upper");
+      throw ConfigError("doe::latin_hypercube: factor '" + names[f] +
+                        "' needs finite bounds with lower <= upper");
     }
   }
   detail::require_unique_names(names, "doe::latin_hypercube");
@@ -391,10 +391,10 @@ inline Design latin_hypercube(const std::vector<std::string>& names,
 
 /// Each run of `design` repeated `repeats` times consecutively (run 0 x repeats, then run 1 ...).
 /// Every repeat keeps its base run's run_index, so average_replicates() can group them.
-/// Setup only. @throws std::invalid_argument for repeats < 1 or an invalid design.
+/// Setup only. @throws ConfigError for repeats < 1 or an invalid design.
 inline Design replicate(const Design& design, int repeats) {
   detail::require_valid(design, "doe::replicate");
-  if (repeats < 1) throw std::invalid_argument("doe::replicate: repeats must be >= 1");
+  if (repeats < 1) throw ConfigError("doe::replicate: repeats must be >= 1");
   Design d;
   d.factor_names = design.factor_names;
   d.has_levels = design.has_levels;
@@ -407,6 +407,62 @@ inline Design replicate(const Design& design, int repeats) {
     }
   }
   return d;
+}
+
+/// The designs `cmmcomp-sim dataset --design NAME` knows, on `factors` in the order PV, PD, AV,
+/// AD and, optionally, Y (docs/training.md, "The designs: which factor on which column"):
+///  - "l18": taguchi_l18() on paper_l18_assignment() (c2..c5), Y on c6, the next free 3-level
+///    column; 3 levels per factor;
+///  - "l9": taguchi_l9() on c1..c4, "l27": taguchi_l27() on c1, c2, c5, c13 (no column for Y);
+///  - "full": every combination of the levels;
+///  - "lhs": latin_hypercube() of `lhs_samples` runs between each factor's lowest and highest
+///    level, from `seed`.
+/// Setup only. Throws ConfigError "design NAME ..." for an unknown name, a factor without the
+/// levels the design needs, or Y on a design without a column for it.
+inline Design design_by_name(const std::string& name,
+                             const std::vector<Factor>& factors,
+                             int lhs_samples,
+                             std::uint64_t seed) {
+  auto require_levels = [&factors, &name](std::size_t n) {
+    for (const Factor& f : factors) {
+      if (f.levels.size() != n) {
+        throw ConfigError("design " + name + " needs " + std::to_string(n) +
+                          " levels per factor; " + f.name + " has " +
+                          std::to_string(f.levels.size()));
+      }
+    }
+  };
+  const bool with_y = factors.size() == 5;
+  if (name == "l18") {
+    require_levels(3);
+    std::vector<int> columns = paper_l18_assignment();
+    if (with_y) columns.push_back(5);  // c6, the next free 3-level column
+    return assign(taguchi_l18(), factors, columns);
+  }
+  if (with_y && (name == "l9" || name == "l27")) {
+    throw ConfigError("design " + name +
+                      " has no column for y; use l18, full or lhs with y levels");
+  }
+  if (name == "l9") {
+    require_levels(3);
+    return assign(taguchi_l9(), factors, {0, 1, 2, 3});
+  }
+  if (name == "l27") {
+    require_levels(3);
+    return assign(taguchi_l27(), factors, {0, 1, 4, 12});
+  }
+  if (name == "full") return full_factorial(factors);
+  if (name == "lhs") {
+    std::vector<std::string> names;
+    std::vector<double> lo, hi;
+    for (const Factor& f : factors) {
+      names.push_back(f.name);
+      lo.push_back(*std::min_element(f.levels.begin(), f.levels.end()));
+      hi.push_back(*std::max_element(f.levels.begin(), f.levels.end()));
+    }
+    return latin_hypercube(names, lo, hi, lhs_samples, seed);
+  }
+  throw ConfigError("design must be one of l18, l9, l27, full, lhs (got '" + name + "')");
 }
 
 }  // namespace cmmcomp::doe

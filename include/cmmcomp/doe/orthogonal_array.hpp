@@ -10,6 +10,7 @@
 /// reports invalid arguments with exceptions. Nothing here is RT-safe.
 #pragma once
 
+#include <cmmcomp/error.hpp>
 #include <cstddef>
 #include <initializer_list>
 #include <stdexcept>
@@ -28,36 +29,35 @@ class OrthogonalArray {
   /// @param levels_per_column  number of levels of each column (each >= 2)
   /// @param rows               one row per run; every row has levels_per_column.size() cells,
   ///                           cell c in [0, levels_per_column[c])
-  /// @throws std::invalid_argument when there are no runs or no columns, a column has fewer
+  /// @throws ConfigError when there are no runs or no columns, a column has fewer
   ///         than 2 levels, a row has the wrong length, or a cell is out of range.
   /// The constructor does not require orthogonality: use is_orthogonal() to check it.
   OrthogonalArray(std::string name,
                   std::vector<int> levels_per_column,
                   const std::vector<std::vector<int>>& rows)
       : name_(std::move(name)), levels_(std::move(levels_per_column)) {
-    if (levels_.empty()) throw std::invalid_argument("OrthogonalArray " + name_ + ": no columns");
-    if (rows.empty()) throw std::invalid_argument("OrthogonalArray " + name_ + ": no runs");
+    if (levels_.empty()) throw ConfigError("OrthogonalArray " + name_ + ": no columns");
+    if (rows.empty()) throw ConfigError("OrthogonalArray " + name_ + ": no runs");
     for (std::size_t c = 0; c < levels_.size(); ++c) {
       if (levels_[c] < 2) {
-        throw std::invalid_argument("OrthogonalArray " + name_ + ": column " + std::to_string(c) +
-                                    " has fewer than 2 levels");
+        throw ConfigError("OrthogonalArray " + name_ + ": column " + std::to_string(c) +
+                          " has fewer than 2 levels");
       }
     }
     runs_ = static_cast<int>(rows.size());
     cells_.reserve(rows.size() * levels_.size());
     for (std::size_t r = 0; r < rows.size(); ++r) {
       if (rows[r].size() != levels_.size()) {
-        throw std::invalid_argument("OrthogonalArray " + name_ + ": run " + std::to_string(r) +
-                                    " has " + std::to_string(rows[r].size()) + " cells, expected " +
-                                    std::to_string(levels_.size()));
+        throw ConfigError("OrthogonalArray " + name_ + ": run " + std::to_string(r) + " has " +
+                          std::to_string(rows[r].size()) + " cells, expected " +
+                          std::to_string(levels_.size()));
       }
       for (std::size_t c = 0; c < levels_.size(); ++c) {
         const int v = rows[r][c];
         if (v < 0 || v >= levels_[c]) {
-          throw std::invalid_argument("OrthogonalArray " + name_ + ": cell (run " +
-                                      std::to_string(r) + ", column " + std::to_string(c) +
-                                      ") = " + std::to_string(v) + " is outside [0, " +
-                                      std::to_string(levels_[c]) + ")");
+          throw ConfigError("OrthogonalArray " + name_ + ": cell (run " + std::to_string(r) +
+                            ", column " + std::to_string(c) + ") = " + std::to_string(v) +
+                            " is outside [0, " + std::to_string(levels_[c]) + ")");
         }
         cells_.push_back(v);
       }

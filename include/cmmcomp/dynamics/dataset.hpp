@@ -5,6 +5,7 @@
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/noise.hpp>
+#include <cmmcomp/error.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cstddef>
 #include <functional>
@@ -43,7 +44,7 @@ struct FixedSettings {
 
 /// Rows (errors zero) for a design whose factors are named PV, PD, AV, AD in SI units (as
 /// doe::paper_table3_factors()), optionally with Y (carriage position [m]; without it every row
-/// gets fixed.y_mm); other factors are rejected with std::invalid_argument.
+/// gets fixed.y_mm); other factors are rejected with ConfigError.
 std::vector<DatasetRow> rows_from_design(const doe::Design& design, const FixedSettings& fixed);
 
 }  // namespace cmmcomp::dynamics

@@ -6,6 +6,7 @@
 /// CVODE beyond what CVodeReInit does (nothing).
 #pragma once
 
+#include <cmmcomp/error.hpp>
 #include <cmmcomp/status.hpp>
 #include <memory>
 #include <string>
@@ -40,8 +41,8 @@ class Integrator {
   /// Root functions g_i(t, y); the integrator stops where one changes sign.
   using Roots = int (*)(double t, const double* y, double* g, void* user) noexcept;
 
-  /// Setup only: creates the CVODE handles. Throws std::invalid_argument for invalid options,
-  /// state_size < 1 or root_count < 0, std::runtime_error when SUNDIALS fails to allocate.
+  /// Setup only: creates the CVODE handles. Throws ConfigError for invalid options,
+  /// state_size < 1 or root_count < 0, Error when SUNDIALS fails to allocate.
   Integrator(const IntegratorOptions& options,
              Rhs rhs,
              void* user,

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
+#include <cmmcomp/error.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <map>
 #include <stdexcept>
@@ -29,15 +30,15 @@ struct DatasetAnova {
 /// Factor names in the tables: PaperInputs' labels (schema.hpp).
 inline constexpr std::array<const char*, 4> kAnovaFactors = PaperInputs::labels();
 
-/// Throws std::invalid_argument when PA, AA or Y vary, when a factor has a single level, or when
+/// Throws ConfigError when PA, AA or Y vary, when a factor has a single level, or when
 /// the runs are not an orthogonal design (the message names the factors).
 inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
                                      const doe::AnovaOptions& options = {}) {
-  if (rows.empty()) throw std::invalid_argument("anova: the dataset is empty");
+  if (rows.empty()) throw ConfigError("anova: the dataset is empty");
   for (const DatasetRow& r : rows) {
     if (r.pa_mm_s2 != rows[0].pa_mm_s2 || r.aa_mm_s2 != rows[0].aa_mm_s2 ||
         r.y_mm != rows[0].y_mm) {
-      throw std::invalid_argument(
+      throw ConfigError(
           "anova: pa_mm_s2, aa_mm_s2 and y_mm must be the same in every row (the ANOVA covers "
           "PV, PD, AV, AD)");
     }
@@ -61,8 +62,7 @@ inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
     std::sort(levels[f].begin(), levels[f].end());
     levels[f].erase(std::unique(levels[f].begin(), levels[f].end()), levels[f].end());
     if (levels[f].size() < 2) {
-      throw std::invalid_argument(std::string("anova: factor ") + kAnovaFactors[f] +
-                                  " has a single level");
+      throw ConfigError(std::string("anova: factor ") + kAnovaFactors[f] + " has a single level");
     }
   }
   std::vector<std::string> names(kAnovaFactors.begin(), kAnovaFactors.end());

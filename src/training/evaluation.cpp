@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: MIT
+/// @file Table 5 and Fig. 5 of a model on a test set.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cmmcomp/error.hpp>
+#include <cmmcomp/training/evaluation.hpp>
+#include <sstream>
+
+namespace cmmcomp::training {
+
+namespace {
+
+std::size_t checked_size(const TestSetPredictions& p) {
+  const std::size_t n = p.measured[0].size();
+  for (std::size_t o = 0; o < kErrors.size(); ++o) {
+    if (p.measured[o].size() != n || p.predicted[o].size() != n) {
+      throw ConfigError("test set: measured and predicted values of different lengths");
+    }
+  }
+  if (n == 0) throw ConfigError("test set: no samples");
+  return n;
+}
+
+}  // namespace
+
+std::array<Table5Row, kErrors.size()> table5(const TestSetPredictions& p) {
+  const std::size_t n = checked_size(p);
+  std::array<Table5Row, kErrors.size()> t{};
+  for (std::size_t o = 0; o < kErrors.size(); ++o) {
+    double sum_before = 0, sum_after = 0, sum_r = 0, sum_r2 = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = p.measured[o][i] - p.predicted[o][i];
+      sum_before += std::fabs(p.measured[o][i]);
+      sum_after += std::fabs(r);
+      sum_r += r;
+      sum_r2 += r * r;
+      t[o].max_abs = std::max(t[o].max_abs, std::fabs(r));
+    }
+    t[o].mean_before = sum_before / static_cast<double>(n);
+    t[o].mean_after = sum_after / static_cast<double>(n);
+    t[o].reduction_pct = 100.0 * (t[o].mean_before - t[o].mean_after) / t[o].mean_before;
+    const double mean_r = sum_r / static_cast<double>(n);
+    t[o].var_after = sum_r2 / static_cast<double>(n) - mean_r * mean_r;
+  }
+  return t;
+}
+
+Fig5Plot fig5_plot(const TestSetPredictions& p,
+                   const std::string& data_path,
+                   const std::string& png_path) {
+  const std::size_t n = checked_size(p);
+  Fig5Plot plot;
+  std::ostringstream data;
+  const std::size_t shown = std::min<std::size_t>(50, n);
+  for (std::size_t i = 0; i < shown; ++i) {
+    const std::size_t k = (i * n) / shown;  // spread over the test set, deterministic
+    data << i + 1;
+    for (std::size_t o = 0; o < kErrors.size(); ++o) {
+      data << ' ' << p.measured[o][k] << ' ' << p.predicted[o][k] << ' '
+           << p.measured[o][k] - p.predicted[o][k];
+    }
+    data << '\n';
+  }
+  plot.data = data.str();
+  std::string& g = plot.script;
+  g = "set terminal pngcairo size 1200,900 noenhanced\nset output '" + png_path + "'\n" +
+      "set multiplot layout 2,2 title 'Measured, predicted and residual (" + std::to_string(shown) +
+      " test samples)'\n";
+  for (std::size_t o = 0; o < kErrors.size(); ++o) {
+    const std::size_t c = 2 + 3 * o;
+    g += fmt::format(
+        "set title '{} [um]'\nset xlabel 'sample'\nset grid\n"
+        "plot '{}' using 1:{} with linespoints title 'measured', '' using 1:{} with linespoints "
+        "title 'predicted', '' using 1:{} with impulses lw 2 title 'residual'\n",
+        kErrors[o].label,
+        data_path,
+        c,
+        c + 1,
+        c + 2);
+  }
+  g += "unset multiplot\n";
+  return plot;
+}
+
+}  // namespace cmmcomp::training
