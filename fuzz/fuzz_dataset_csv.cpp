@@ -2,7 +2,7 @@
 /// @file libFuzzer target: the dataset CSV reader (io/dataset_csv.hpp), as cmmcomp-train and
 /// cmmcomp-sim anova feed it. Every accepted row must hold finite values only.
 #include <cmath>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cstddef>
 #include <cstdint>

@@ -4,7 +4,7 @@
 /// Any ConfigError is a correct answer. An accepted machine must be physical, and writing it
 /// and reading it back must give the same machine (the writer stays inside the subset).
 #include <cmmcomp/dynamics/machine.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>

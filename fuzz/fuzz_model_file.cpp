@@ -2,7 +2,7 @@
 /// @file libFuzzer target: the model file reader (io/compensation_model_file.hpp) on raw bytes,
 /// as cmmcomp-agent, cmmcomp-train and the C ABI feed it. Any ConfigError is a correct answer;
 /// a crash, a sanitizer report or another exception is a finding.
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cstddef>
 #include <cstdint>

@@ -3,7 +3,7 @@
 /// carry a valid SHA-256, so the structure checks behind it would go unexplored: when the input
 /// is a JSON object, this target recomputes `checksum` by the documented rule
 /// (docs/model-file.md) before parsing.
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cstddef>

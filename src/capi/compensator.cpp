@@ -3,7 +3,7 @@
 #include <cmmcomp/compensator.h>
 
 #include <cmmcomp/compensation/move_compensator.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdint>

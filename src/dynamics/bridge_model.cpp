@@ -6,7 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cmmcomp/dynamics/bridge_model.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <string>
 
 namespace cmmcomp::dynamics {

@@ -8,7 +8,7 @@
 
 #include <cmath>
 #include <cmmcomp/dynamics/integrator.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstring>
 #include <stdexcept>
 #include <string>

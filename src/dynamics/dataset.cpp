@@ -6,7 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmmcomp/dynamics/dataset.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <exception>
 #include <mutex>
 #include <stdexcept>

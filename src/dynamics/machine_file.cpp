@@ -7,7 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <cmmcomp/dynamics/machine.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/toml_subset.hpp>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file Loads a model file of any served input set for the compensator (names and units
 /// checked against the schema) and publishes it to an axis.
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cstdlib>
 #include <utility>

@@ -4,7 +4,7 @@
 
 #include <cerrno>
 #include <cmath>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cstdlib>

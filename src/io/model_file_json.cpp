@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/io/sha256.hpp>

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 #include <array>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cstdio>
 #include <string>

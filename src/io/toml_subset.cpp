@@ -2,7 +2,7 @@
 /// @file The TOML subset of the machine and agent configuration files, checked by hand.
 #include <fmt/format.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/toml_subset.hpp>
 #include <string>
 

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/training/evaluation.hpp>
 #include <sstream>
 

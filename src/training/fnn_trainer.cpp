@@ -9,7 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cmmcomp/detail/splitmix64.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cstddef>
 #include <limits>

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/training/machine_identification.hpp>
 #include <fstream>

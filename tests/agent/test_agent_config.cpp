@@ -3,7 +3,7 @@
 /// and a clear file:line error for each kind of mistake.
 #include <gtest/gtest.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <string>
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstdint>
 #include <limits>
 #include <random>

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmmcomp/doe/orthogonal_array.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <stdexcept>
 #include <utility>
 #include <vector>

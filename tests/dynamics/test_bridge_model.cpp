@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/dynamics/bridge_model.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <limits>
 #include <string>
 #include <vector>

@@ -6,7 +6,7 @@
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/doe/orthogonal_array.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_anova.hpp>
 #include <cstddef>
 #include <cstdint>

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/dynamics/integrator.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/status.hpp>
 #include <limits>
 #include <stdexcept>

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/dynamics/machine.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>

@@ -2,7 +2,7 @@
 /// @file Loading a model file for the compensator: any served input set, names checked.
 #include <gtest/gtest.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/default_model.hpp>
 #include <string>

@@ -2,7 +2,7 @@
 /// @file The dataset CSV schema: round trip and every error a user can make.
 #include <gtest/gtest.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <sstream>

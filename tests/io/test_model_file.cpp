@@ -3,7 +3,7 @@
 /// the constexpr header export and the example in docs/model-file.md.
 #include <gtest/gtest.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>

@@ -2,7 +2,7 @@
 /// @file Reports of a move profile.
 #include <gtest/gtest.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <sstream>
 #include <stdexcept>

@@ -7,7 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/detail/splitmix64.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cstdint>
 #include <cstring>
@@ -20,24 +21,8 @@
 namespace cmmcomp::training {
 namespace {
 
-/// Portable generator for test data (same as the trainer's: SplitMix64).
-struct Rng {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double uniform(double lo = 0.0, double hi = 1.0) {
-    return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53;
-  }
-  double normal() {
-    const double u1 = 1.0 - uniform();
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-  }
-};
+/// Portable generator for test data: the project's one (detail/splitmix64.hpp).
+using Rng = detail::SplitMix64;
 
 template <std::size_t N>
 using Rows = std::vector<std::array<double, N>>;

@@ -14,7 +14,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmmcomp/compensation/move_compensator.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <cmmcomp/plugins/modbus_server.hpp>
 #include <cmmcomp/version.hpp>

@@ -11,7 +11,7 @@
 
 #include <array>
 #include <cerrno>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_request_handler.hpp>
 #include <cstring>
 #include <thread>

@@ -4,7 +4,7 @@
 /// checks every answer byte for byte against the recording.
 #include <CLI/CLI.hpp>
 #include <cmmcomp/compensation/move_compensator.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <cstdio>
 #include <exception>

@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/modbus_adu_responder.hpp>
 #include <cmmcomp/plugins/modbus_server.hpp>
 #include <cstring>

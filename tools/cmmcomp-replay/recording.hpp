@@ -4,7 +4,7 @@
 /// parsers are unit-tested line by line.
 #pragma once
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <istream>

@@ -13,7 +13,7 @@
 #include <cmmcomp/dynamics/noise.hpp>
 #include <cmmcomp/dynamics/paper_check.hpp>
 #include <cmmcomp/dynamics/trace_csv.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_anova.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/profile_report.hpp>

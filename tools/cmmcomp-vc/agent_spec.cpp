@@ -3,7 +3,7 @@
 #include "agent_spec.hpp"
 
 #include <cmath>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <sstream>
 

@@ -4,7 +4,7 @@
 
 #include <array>
 #include <cmmcomp/compensation/move_request.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstdint>
 #include <string>
 

@@ -3,7 +3,7 @@
 /// speed on the digital twin and asks cmmcomp-agent for each correction over Modbus TCP or CAN.
 #include <CLI/CLI.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <cstdio>
 #include <memory>

@@ -3,7 +3,7 @@
 /// --plot does): a data file and a script next to each PNG, so a user can restyle them.
 #include <fmt/format.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>

@@ -3,7 +3,7 @@
 #include "probe_setting.hpp"
 
 #include <cmath>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <sstream>
 
 namespace cmmcomp::vc {

@@ -2,7 +2,7 @@
 /// @file Parses --model [AXIS=]PATH and loads each file into its axis of the compensator.
 #include "model_slots.hpp"
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/default_model.hpp>
 #include <cstdio>

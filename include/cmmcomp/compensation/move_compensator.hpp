@@ -22,7 +22,7 @@
 #include <atomic>
 #include <cmmcomp/compensation/move_prediction.hpp>
 #include <cmmcomp/compensation/move_request.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/status.hpp>

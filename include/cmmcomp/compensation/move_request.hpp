@@ -28,9 +28,9 @@ struct MoveRequest {
   /// towards the part (finite, |d| = 1 ± kDirectionTolerance). The correction is RAE·d.
   std::array<double, 3> direction{1.0, 0.0, 0.0};
   double pv_mm_s = 0.0;  ///< positioning speed PV [mm/s], > 0
-  double pa_mm_s2 =
-      0.0;             ///< positioning acceleration PA [mm/s²], > 0 (validated, not a model input)
-  double pd_mm = 0.0;  ///< positioning distance PD [mm], > 0
+  /// positioning acceleration PA [mm/s²], > 0 (validated, not an input of the served models)
+  double pa_mm_s2 = 0.0;
+  double pd_mm = 0.0;     ///< positioning distance PD [mm], > 0
   double av_mm_s = 0.0;   ///< approach speed AV [mm/s], > 0
   double aa_mm_s2 = 0.0;  ///< approach acceleration AA [mm/s²], > 0 (validated, not a model input)
   double ad_mm = 0.0;     ///< approach distance AD [mm], > 0

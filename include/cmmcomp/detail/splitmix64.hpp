@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: MIT
-/// @file SplitMix64: the project's one portable random generator (not API).
+/// @file SplitMix64: the project's portable random generator for noise, training and tests (not
+/// API). The one other, std::mt19937_64 in doe::latin_hypercube, is used only through its raw
+/// output, whose sequence the C++ standard specifies, so it is as portable; it stays because the
+/// shipped datasets, models and figures were drawn with it.
 ///
 /// Steele, Lea & Flood 2014, with the constants of Vigna's reference code. Every draw is made
 /// from its raw 64-bit output, never through std:: distributions (whose results differ between

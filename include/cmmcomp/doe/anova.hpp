@@ -28,7 +28,7 @@
 
 #include <cmath>
 #include <cmmcomp/doe/designs.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstddef>
 #include <iomanip>
 #include <limits>

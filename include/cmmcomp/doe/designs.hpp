@@ -14,7 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/doe/orthogonal_array.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cstddef>

@@ -10,7 +10,7 @@
 /// reports invalid arguments with exceptions. Nothing here is RT-safe.
 #pragma once
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cstddef>
 #include <initializer_list>
 #include <stdexcept>

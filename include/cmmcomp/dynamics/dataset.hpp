@@ -5,7 +5,7 @@
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/noise.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cstddef>
 #include <functional>

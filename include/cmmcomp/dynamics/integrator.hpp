@@ -6,7 +6,7 @@
 /// CVODE beyond what CVodeReInit does (nothing).
 #pragma once
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/status.hpp>
 #include <memory>
 #include <string>

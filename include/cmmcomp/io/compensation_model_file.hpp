@@ -8,7 +8,7 @@
 #pragma once
 
 #include <cmmcomp/compensation/move_compensator.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/status.hpp>

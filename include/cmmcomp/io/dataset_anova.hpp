@@ -11,7 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <map>
 #include <stdexcept>

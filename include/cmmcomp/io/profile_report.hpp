@@ -2,7 +2,7 @@
 /// @file Human-readable and CSV reports of a planned move profile (offline, cmmcomp::cmmcomp).
 #pragma once
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <string>
 

@@ -11,7 +11,7 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <cstdio>
 #include <cstring>

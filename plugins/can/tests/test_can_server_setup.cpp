@@ -3,7 +3,7 @@
 /// kernel has no CAN (the host) or the interface does not exist (a kernel with CAN).
 #include <gtest/gtest.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <cstdint>
 #include <string>

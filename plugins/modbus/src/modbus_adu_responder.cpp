@@ -7,7 +7,7 @@
 
 #include <array>
 #include <cerrno>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/modbus_adu_responder.hpp>
 #include <cstring>
 #include <string>

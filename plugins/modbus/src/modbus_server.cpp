@@ -11,7 +11,7 @@
 #include <array>
 #include <cerrno>
 #include <chrono>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/modbus_server.hpp>
 #include <cstring>
 #include <vector>

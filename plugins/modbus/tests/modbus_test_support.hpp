@@ -8,7 +8,7 @@
 
 #include <array>
 #include <atomic>
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/modbus_register_map.hpp>
 #include <cmmcomp/plugins/modbus_server.hpp>
 #include <cstdint>

@@ -7,7 +7,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <cmmcomp/error.hpp>
+#include <cmmcomp/exceptions.hpp>
 #include <fstream>
 #include <sstream>
 #include <string>

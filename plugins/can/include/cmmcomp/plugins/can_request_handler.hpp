@@ -28,8 +28,8 @@ struct CanCounters {
   std::uint64_t requests = 0;   ///< requests complete (all three parts) and decoded
   std::uint64_t answered = 0;   ///< responses sent (three frames each)
   std::uint64_t rejected = 0;   ///< reject frames sent
-  std::uint64_t malformed =
-      0;  ///< frames with wrong DLC, unknown part, stray sequence or part, reserved bits
+  /// frames with wrong DLC, unknown part, stray sequence or part, reserved bits
+  std::uint64_t malformed = 0;
   std::uint64_t timeouts = 0;      ///< requests abandoned because a part came too late
   std::uint64_t incomplete = 0;    ///< requests abandoned because a new request started
   std::uint64_t out_of_range = 0;  ///< requests with a field, or results, outside their range
