@@ -1,5 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/** @file C ABI of the per-move compensator, for controller firmware and plugins (C99).
+/** @file C ABI of the per-move compensator (C99), for controller software in C: a vendor's
+ * controller plugin, a PLC runtime, firmware with a file system. cmmcomp's own bus servers
+ * (plugins/, static C++ libraries in cmmcomp-agent) use the C++ API directly.
  *
  * One compensator holds one model file that serves every axis: a 3-set, 4-output T-S network
  * with the paper's 4 inputs (PV, PD, AV, AD) or 5 with Y (y_mm), as cmmcomp-train writes it
