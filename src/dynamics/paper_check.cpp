@@ -269,7 +269,7 @@ PaperComparison compare_with_paper(const PaperSimulations& sims, std::uint64_t s
     c.checks.push_back(
         {fmt::format("Smooth: {} over {}: <= 1 extremum, within 1 sigma of the quadratic",
                      paper::kParameters[static_cast<std::size_t>(s.parameter)],
-                     kInputNames[s.input]),
+                     kInputNames[static_cast<std::size_t>(s.input)]),
          s.max_interior_extrema <= 1 && s.max_deviation_sigma <= 1.0,
          fmt::format("{} extrema, {:.2f} sigma ({} of 8 sweeps{})",
                      s.max_interior_extrema,

@@ -412,7 +412,7 @@ AnovaTargets read_anova_targets(const std::string& path) {
     const std::string factor = cells.at(static_cast<std::size_t>(column["factor"]));
     int source = -1;
     for (int s = 0; s < 5; ++s) {
-      if (factor == kSourceNames[s]) source = s;
+      if (factor == kSourceNames[static_cast<std::size_t>(s)]) source = s;
     }
     if (source < 0) {
       throw ConfigError(
@@ -433,7 +433,8 @@ AnovaTargets read_anova_targets(const std::string& path) {
   });
   for (int s = 0; s < 5; ++s) {
     if (!seen[static_cast<std::size_t>(s)]) {
-      throw ConfigError(fmt::format("{}: no row for '{}'", path, kSourceNames[s]));
+      throw ConfigError(
+          fmt::format("{}: no row for '{}'", path, kSourceNames[static_cast<std::size_t>(s)]));
     }
   }
   return t;
@@ -463,7 +464,7 @@ GridMeanTargets read_grid_mean_targets(const std::string& path) {
         };
         int p = -1;
         for (int k = 0; k < 4; ++k) {
-          if (at(parameter_col) == kParamNames[k]) p = k;
+          if (at(parameter_col) == kParamNames[static_cast<std::size_t>(k)]) p = k;
         }
         if (p < 0) {
           throw ConfigError(fmt::format("{}:{}: unknown parameter '{}' (MPE, RPE, MAE, RAE)",
@@ -483,7 +484,8 @@ GridMeanTargets read_grid_mean_targets(const std::string& path) {
       });
   for (int p = 0; p < 4; ++p) {
     if (!seen[static_cast<std::size_t>(p)]) {
-      throw ConfigError(fmt::format("{}: no row for '{}'", path, kParamNames[p]));
+      throw ConfigError(
+          fmt::format("{}: no row for '{}'", path, kParamNames[static_cast<std::size_t>(p)]));
     }
   }
   return t;
