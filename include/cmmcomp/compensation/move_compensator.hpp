@@ -63,10 +63,6 @@ class BasicMoveCompensator {
   static_assert(sizeof...(Sets) > 0, "a compensator serves at least one input set");
 
  public:
-  /// The model type of each served set.
-  template <typename Inputs>
-  using ModelOf = Model<Inputs, double>;
-
   /// True when a model of `Inputs` can be published.
   template <typename Inputs>
   static constexpr bool kServes = (std::is_same_v<Inputs, Sets> || ...);
