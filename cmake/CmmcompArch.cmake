@@ -6,7 +6,7 @@
 #           the default; the release preset uses it (benchmarks, the main job)
 #   other   passed as -march=<value> (x86-64-v3, native, znver3, armv8.2-a, ...)
 # Results do not depend on it: cmmcomp::core builds with -ffp-contract=off, so every SIMD width
-# computes the same bits (tests/replay checks recordings made by one build in another).
+# computes the same bits (tests/tools/replay checks recordings made by one build in another).
 if(CMMCOMP_ARCH STREQUAL "")
   return()
 endif()

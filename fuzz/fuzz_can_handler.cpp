@@ -4,7 +4,7 @@
 /// [0] identifier offset from the base (low 3 bits; 0 is a request part), and whether the clock
 /// jumps (bit 3: to the far end of int64, where the deadline must saturate); [1] the DLC
 /// (any value); [2..9] data; [10] the time step in ms. Invariants (abort on violation): at most
-/// FrameBatch::kCapacity frames per call, each with the handler's own identifiers and DLC 8;
+/// CanFrameBatch::kCapacity frames per call, each with the handler's own identifiers and DLC 8;
 /// a request is answered only when all three parts came; the counters add up.
 #include <chrono>
 #include <cmmcomp/compensation/move_compensator.hpp>
@@ -21,8 +21,8 @@ namespace {
 using namespace cmmcomp;
 namespace can = cmmcomp::plugins::can;
 
-void check(const can::FrameBatch& out) {
-  if (out.size > can::FrameBatch::kCapacity) std::abort();
+void check(const plugins::CanFrameBatch& out) {
+  if (out.size > plugins::CanFrameBatch::kCapacity) std::abort();
   for (std::size_t i = 0; i < out.size; ++i) {
     const can::Frame& f = out.frames[i];
     if (f.dlc != can::kFrameDlc) std::abort();
@@ -36,7 +36,7 @@ void check(const can::FrameBatch& out) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  can::RequestHandler handler(
+  plugins::CanRequestHandler handler(
       fuzzing::shipped_compensator(), can::kDefaultBaseId, std::chrono::milliseconds(50));
   std::int64_t now = 0;
   std::uint64_t request_parts_seen = 0;
@@ -52,11 +52,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     } else if (now < std::numeric_limits<std::int64_t>::max() - 1000000000) {
       now += std::int64_t{r[10]} * 1000000;
     }
-    can::FrameBatch out;
+    plugins::CanFrameBatch out;
     handler.on_frame(f, now, out);
     check(out);
     if ((r[0] & 7u) == 0) ++request_parts_seen;
-    can::FrameBatch tick;
+    plugins::CanFrameBatch tick;
     handler.on_time(now, tick);
     check(tick);
   }

@@ -52,7 +52,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       default:
         std::abort();
     }
-    const modbus_map::Result r = modbus_map::decode_result(handler.input());
+    const modbus::Result r = modbus::decode_result(handler.input());
     if (!std::isfinite(r.mpe_um) || !std::isfinite(r.rpe_um) || !std::isfinite(r.mae_um) ||
         !std::isfinite(r.rae_um)) {
       std::abort();

@@ -1,26 +1,26 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # regenerate-recordings.sh [BUILD_DIR] — rewrites the committed session recordings in
-# tests/replay/data/ (docs/recordings.md) with cmmcomp-vc --record against cmmcomp-agent and the
+# tests/tools/replay/data/ (docs/recordings.md) with cmmcomp-vc --record against cmmcomp-agent and the
 # committed models. Run it when the wire protocol or a committed model changes on purpose, then
-# review `git diff tests/replay/data` and commit. BUILD_DIR (default build/release) must hold
+# review `git diff tests/tools/replay/data` and commit. BUILD_DIR (default build/release) must hold
 # built cmmcomp-agent and cmmcomp-vc (cmake --build BUILD_DIR --target cmmcomp-agent cmmcomp-vc).
 #
 # Modbus sessions run on loopback (free port); CAN sessions run inside the User-Mode Linux guest
 # (scripts/uml-run.sh) on vcan0. Every run is seeded, so only the timestamps change between two
-# regenerations (tests/replay/README.md).
+# regenerations (tests/tools/replay/README.md).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$(cd "${1:-$root/build/release}" && pwd)"
 agent="$build/tools/cmmcomp-agent/cmmcomp-agent"
 vc="$build/tools/cmmcomp-vc/cmmcomp-vc"
-data="$root/tests/replay/data"
+data="$root/tests/tools/replay/data"
 for exe in "$agent" "$vc"; do
   [ -x "$exe" ] || { echo "regenerate-recordings: $exe not built" >&2; exit 2; }
 done
 mkdir -p "$data"
 # The program of every recording: 3 lengths × 2 Y × 2 faces = 12 requests (24 transcript lines,
-# 72 CAN frames). Keep in sync with tests/replay/README.md. The guest gets them in VC_ARGS.
+# 72 CAN frames). Keep in sync with tests/tools/replay/README.md. The guest gets them in VC_ARGS.
 vc_args=(--lengths 20,100,400 --y 0,250 --repeats 1 --seed 7)
 # name → model file (relative to the repository)
 models=("default=data/models/default.json" "default-y=data/models/default-y.json")

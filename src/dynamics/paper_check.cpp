@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cmmcomp/doe/dataset_anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
 #include <cmmcomp/dynamics/paper_check.hpp>
-#include <cmmcomp/io/dataset_anova.hpp>
 #include <cmmcomp/paper_reference.hpp>
 
 namespace cmmcomp::dynamics {
@@ -28,7 +28,7 @@ std::array<double, 4> magnitudes(const DatasetRow& r) {
   return {r.mpe_um, std::fabs(r.rpe_um), r.mae_um, std::fabs(r.rae_um)};
 }
 
-const doe::AnovaTable& table(const io::DatasetAnova& a, std::size_t p) {
+const doe::AnovaTable& table(const doe::DatasetAnova& a, std::size_t p) {
   const doe::AnovaTable* t[] = {&a.mpe, &a.rpe, &a.mae, &a.rae};
   return *t[p];
 }
@@ -202,8 +202,8 @@ PaperComparison compare_with_paper(const PaperSimulations& sims, std::uint64_t s
   // Table 4: the median weight over 20 noise seeds.
   std::array<std::array<std::vector<double>, 5>, 4> weights;
   for (int k = 0; k < kMedianSeeds; ++k) {
-    const io::DatasetAnova a =
-        io::anova_of_dataset(with_noise(sims.l18, seed + static_cast<std::uint64_t>(k)));
+    const doe::DatasetAnova a =
+        doe::anova_of_dataset(with_noise(sims.l18, seed + static_cast<std::uint64_t>(k)));
     for (std::size_t p = 0; p < 4; ++p) {
       const doe::AnovaTable& t = table(a, p);
       for (std::size_t f = 0; f < 5; ++f) {

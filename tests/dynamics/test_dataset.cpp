@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cmmcomp/doe/dataset_anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/doe/orthogonal_array.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
 #include <cmmcomp/exceptions.hpp>
-#include <cmmcomp/io/dataset_anova.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -310,14 +310,14 @@ std::vector<DatasetRow> synthetic_l18() {
 }
 
 void expect_single_factor(const doe::AnovaTable& t, const std::string& factor) {
-  for (const std::string f : io::kAnovaFactors) {
+  for (const std::string f : doe::kAnovaFactors) {
     EXPECT_NEAR(t.factor(f).weight_percent, f == factor ? 100.0 : 0.0, 1e-6)
         << "factor " << f << " (expected " << factor << " alone)";
   }
 }
 
 TEST(AnovaOfDataset, SyntheticResponsesAreAttributedToTheirFactor) {
-  const io::DatasetAnova a = io::anova_of_dataset(synthetic_l18());
+  const doe::DatasetAnova a = doe::anova_of_dataset(synthetic_l18());
   EXPECT_EQ(a.runs, 18);
   EXPECT_EQ(a.samples, 18);
   expect_single_factor(a.mpe, "PV");
@@ -339,13 +339,13 @@ TEST(AnovaOfDataset, RepeatsAreAveraged) {
     rows.push_back(up);
     rows.push_back(down);
   }
-  const io::DatasetAnova a = io::anova_of_dataset(rows);
+  const doe::DatasetAnova a = doe::anova_of_dataset(rows);
   EXPECT_EQ(a.runs, 18);
   EXPECT_EQ(a.samples, 36);
   expect_single_factor(a.mpe, "PV");
   expect_single_factor(a.mae, "AD");
-  const io::DatasetAnova once = io::anova_of_dataset(synthetic_l18());
-  for (const std::string f : io::kAnovaFactors) {
+  const doe::DatasetAnova once = doe::anova_of_dataset(synthetic_l18());
+  for (const std::string f : doe::kAnovaFactors) {
     EXPECT_NEAR(a.mpe.factor(f).weight_percent, once.mpe.factor(f).weight_percent, 1e-9) << f;
     EXPECT_NEAR(a.rpe.factor(f).weight_percent, once.rpe.factor(f).weight_percent, 1e-9) << f;
   }
@@ -354,11 +354,11 @@ TEST(AnovaOfDataset, RepeatsAreAveraged) {
 TEST(AnovaOfDataset, RejectsVaryingFixedSettings) {
   std::vector<DatasetRow> rows = synthetic_l18();
   rows[3].y_mm += 1.0;
-  EXPECT_THROW(io::anova_of_dataset(rows), cmmcomp::ConfigError);
+  EXPECT_THROW(doe::anova_of_dataset(rows), cmmcomp::ConfigError);
   rows = synthetic_l18();
   rows[5].pa_mm_s2 += 1.0;
-  EXPECT_THROW(io::anova_of_dataset(rows), cmmcomp::ConfigError);
-  EXPECT_THROW(io::anova_of_dataset({}), cmmcomp::ConfigError);
+  EXPECT_THROW(doe::anova_of_dataset(rows), cmmcomp::ConfigError);
+  EXPECT_THROW(doe::anova_of_dataset({}), cmmcomp::ConfigError);
 }
 
 }  // namespace

@@ -113,7 +113,7 @@ class InProcessCanSession final : public CanSessionBase {
   std::vector<WireMessage> answer(const WireMessage& request,
                                   std::int64_t next_time_us,
                                   std::size_t /*expected*/) override {
-    can::FrameBatch batch;
+    plugins::CanFrameBatch batch;
     handler_.on_frame(to_frame(request), request.time_us * 1000, batch);
     // The server expires an unfinished request at its deadline, before the next frame comes:
     // that reject belongs after this request in the log, so it is produced here.
@@ -126,12 +126,12 @@ class InProcessCanSession final : public CanSessionBase {
     return out;
   }
   std::string target() const override {
-    return "in process (can::RequestHandler, as cmmcomp-agent's CAN server, base id 0x" +
+    return "in process (CanRequestHandler, as cmmcomp-agent's CAN server, base id 0x" +
            format_hex(base_id_, 3) + ")";
   }
 
  private:
-  can::RequestHandler handler_;
+  plugins::CanRequestHandler handler_;
 };
 
 class LiveCanSession final : public CanSessionBase {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file Replay of candump logs: in process through the plugin's state machine
-/// (plugins::can::RequestHandler, the recorded timestamps driving its part timeout), or against
+/// (CanRequestHandler, the recorded timestamps driving its part timeout), or against
 /// a live agent on a CAN interface.
 #pragma once
 

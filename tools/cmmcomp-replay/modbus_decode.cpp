@@ -13,7 +13,7 @@ namespace cmmcomp::replay {
 
 namespace {
 
-namespace map = plugins::modbus_map;
+namespace map = plugins::modbus;
 
 using map::Field;
 using map::FieldType;

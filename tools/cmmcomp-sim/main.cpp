@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
+#include <cmmcomp/doe/dataset_anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
 #include <cmmcomp/doe/orthogonal_array.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
@@ -14,7 +15,6 @@
 #include <cmmcomp/dynamics/paper_check.hpp>
 #include <cmmcomp/dynamics/trace_csv.hpp>
 #include <cmmcomp/exceptions.hpp>
-#include <cmmcomp/io/dataset_anova.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/profile_report.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
@@ -252,8 +252,8 @@ nlohmann::json table_json(const cmmcomp::doe::AnovaTable& t) {
 }
 
 int run_anova(const std::string& path, bool json) {
-  const cmmcomp::io::DatasetAnova a =
-      cmmcomp::io::anova_of_dataset(cmmcomp::io::read_dataset_csv(path));
+  const cmmcomp::doe::DatasetAnova a =
+      cmmcomp::doe::anova_of_dataset(cmmcomp::io::read_dataset_csv(path));
   if (json) {
     nlohmann::json j{{"runs", a.runs},
                      {"samples", a.samples},

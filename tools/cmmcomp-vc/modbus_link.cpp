@@ -14,7 +14,7 @@
 
 namespace cmmcomp::vc {
 
-namespace map = plugins::modbus_map;
+namespace map = plugins::modbus;
 
 struct ModbusLink::Impl {
   std::unique_ptr<ModbusRecordingRelay> relay;

@@ -11,6 +11,8 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins::can;
+using cmmcomp::plugins::CanFrameBatch;
+using cmmcomp::plugins::CanRequestHandler;
 
 struct Setup {
   Setup() {
@@ -29,11 +31,11 @@ struct Setup {
 // Three request frames → three response frames: decode, reassemble, before_approach, encode.
 void BM_HandleRequest(benchmark::State& state) {
   Setup s;
-  RequestHandler handler(s.comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  CanRequestHandler handler(s.comp, kDefaultBaseId, std::chrono::milliseconds(50));
   std::size_t n = 0;
   for (auto _ : state) {
     const RequestFrames& r = s.requests[n++ % 64];
-    FrameBatch out;
+    CanFrameBatch out;
     for (const Frame& f : r) handler.on_frame(f, 0, out);
     benchmark::DoNotOptimize(out);
   }
@@ -44,11 +46,11 @@ BENCHMARK(BM_HandleRequest);
 // A frame with a wrong DLC → one reject frame.
 void BM_HandleWrongDlc(benchmark::State& state) {
   Setup s;
-  RequestHandler handler(s.comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  CanRequestHandler handler(s.comp, kDefaultBaseId, std::chrono::milliseconds(50));
   Frame bad = s.requests[0][0];
   bad.dlc = 5;
   for (auto _ : state) {
-    FrameBatch out;
+    CanFrameBatch out;
     handler.on_frame(bad, 0, out);
     benchmark::DoNotOptimize(out);
   }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file CanServer: a raw SocketCAN socket (id filter, CAN FD) and its poll loop around
-/// can::RequestHandler, with heartbeats; parsing and printing of the base id.
+/// CanRequestHandler, with heartbeats; parsing and printing of the base id.
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -132,7 +132,7 @@ std::string CanServer::where() const {
          format_can_base_id(options_.base_id);
 }
 
-void CanServer::send(const can::FrameBatch& batch, bool as_fd) noexcept {
+void CanServer::send(const CanFrameBatch& batch, bool as_fd) noexcept {
   std::uint64_t errors = 0;
   for (std::size_t i = 0; i < batch.size; ++i) {
     const can::Frame& f = batch.frames[i];
@@ -149,10 +149,10 @@ void CanServer::send(const can::FrameBatch& batch, bool as_fd) noexcept {
 
 void CanServer::send_heartbeat() noexcept {
   const can::HeartbeatInfo h = handler_.next_heartbeat();
-  can::FrameBatch batch;
+  CanFrameBatch batch;
   for (std::uint8_t page = 0; page < can::kHeartbeatPages; ++page) {
     batch.push(can::encode_heartbeat(h, page, options_.base_id));
-    if (batch.size == can::FrameBatch::kCapacity) {
+    if (batch.size == CanFrameBatch::kCapacity) {
       send(batch, false);  // classic: every node on the bus can read it
       batch.size = 0;
     }
@@ -172,7 +172,7 @@ void CanServer::run(const std::atomic<bool>& stop) {
       send_heartbeat();
       next_heartbeat_ns = std::max(next_heartbeat_ns + period_ns, now);
     }
-    can::FrameBatch expired;
+    CanFrameBatch expired;
     handler_.on_time(now, expired);
     send(expired, last_request_fd_);
 
@@ -208,7 +208,7 @@ void CanServer::run(const std::atomic<bool>& stop) {
       f.dlc = k.len;  // an FD frame longer than 8 bytes is a wrong-DLC reject
       std::memcpy(f.data.data(), k.data, std::min<std::size_t>(k.len, f.data.size()));
       last_request_fd_ = is_fd;
-      can::FrameBatch out;
+      CanFrameBatch out;
       handler_.on_frame(f, now_ns(), out);
       send(out, is_fd);
     }

@@ -9,12 +9,14 @@
 int main() {
   using namespace cmmcomp;
   using namespace cmmcomp::plugins::can;
+  using cmmcomp::plugins::CanFrameBatch;
+  using cmmcomp::plugins::CanRequestHandler;
   compensation::MoveCompensator comp;
   if (comp.publish(0, test::example_model(), test::kExampleModelId) != Status::kOk) return 1;
-  RequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  CanRequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
   RequestFrames request;
   if (encode_request(test::example_move(), kDefaultBaseId, request) != Status::kOk) return 1;
-  FrameBatch out;
+  CanFrameBatch out;
   for (const Frame& f : request) handler.on_frame(f, 0, out);
   DecodedResponse d;
   if (out.size != kResponseParts ||

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @file The per-frame path allocates nothing: RequestHandler::on_frame/on_time and the codec, for
-/// answered requests, rejects and heartbeats (not built under sanitizers: see CMakeLists.txt).
+/// @file The per-frame path allocates nothing: CanRequestHandler::on_frame/on_time and the codec,
+/// for answered requests, rejects and heartbeats (not built under sanitizers: see CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <cmmcomp/plugins/can_request_handler.hpp>
@@ -12,11 +12,13 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins::can;
+using cmmcomp::plugins::CanFrameBatch;
+using cmmcomp::plugins::CanRequestHandler;
 
 TEST(CanRequestHandlerRt, HandlingFramesDoesNotAllocate) {
   compensation::MoveCompensator comp;
   ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), 1), Status::kOk);
-  RequestHandler handler(comp, 0x300, std::chrono::milliseconds(50));
+  CanRequestHandler handler(comp, 0x300, std::chrono::milliseconds(50));
   std::array<RequestFrames, 64> requests;
   for (std::uint32_t s = 0; s < 64; ++s) {
     compensation::MoveRequest m = cmmcomp::test::example_move();
@@ -32,7 +34,7 @@ TEST(CanRequestHandlerRt, HandlingFramesDoesNotAllocate) {
   for (int n = 0; n < 10000; ++n) {
     const RequestFrames& r = requests[static_cast<std::size_t>(n % 64)];
     const std::int64_t t = n * 1'000'000LL;
-    FrameBatch out;
+    CanFrameBatch out;
     for (const Frame& f : r) handler.on_frame(f, t, out);
     answered += out.size == kResponseParts ? 1 : 0;
     out.size = 0;

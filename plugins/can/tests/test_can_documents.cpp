@@ -18,6 +18,8 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins::can;
+using cmmcomp::plugins::CanFrameBatch;
+using cmmcomp::plugins::CanRequestHandler;
 
 std::vector<std::string> read_lines(const std::string& path) {
   std::ifstream in(path);
@@ -255,8 +257,8 @@ TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
   compensation::MoveCompensator comp;
   ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
             Status::kOk);
-  RequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
-  FrameBatch out;
+  CanRequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  CanFrameBatch out;
   std::int64_t t = 0;
   for (const Frame& f : sent) handler.on_frame(f, t += 1'000'000, out);
   std::vector<std::string> got;
@@ -275,7 +277,7 @@ TEST(CanProtocolDoc, RejectExamplesAreWhatTheServerAnswers) {
   compensation::MoveCompensator comp;
   ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
             Status::kOk);
-  RequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  CanRequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
   RequestFrames example;
   ASSERT_EQ(encode_request(cmmcomp::test::example_move(), kDefaultBaseId, example), Status::kOk);
   const auto between_ticks = [](const std::string& s) {
@@ -292,7 +294,7 @@ TEST(CanProtocolDoc, RejectExamplesAreWhatTheServerAnswers) {
     ASSERT_EQ(c.size(), 3u) << line;
     SCOPED_TRACE(line);
     ++rows;
-    FrameBatch out;
+    CanFrameBatch out;
     t += 1'000'000'000;  // rows are independent: far apart in time
     if (c[0].rfind("part 0 alone", 0) == 0) {
       handler.on_frame(example[0], t, out);

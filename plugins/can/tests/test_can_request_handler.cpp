@@ -14,6 +14,8 @@ namespace {
 using namespace cmmcomp;
 using namespace cmmcomp::plugins::can;
 using cmmcomp::plugins::CanCounters;
+using cmmcomp::plugins::CanFrameBatch;
+using cmmcomp::plugins::CanRequestHandler;
 
 constexpr std::uint32_t kBase = 0x300;
 constexpr std::int64_t kMs = 1'000'000;
@@ -35,7 +37,7 @@ class RequestHandlerTest : public ::testing::Test {
 
   /// Feeds `f` at time `t_ms`; returns what the handler sends.
   std::vector<Frame> feed(const Frame& f, std::int64_t t_ms) {
-    FrameBatch out;
+    CanFrameBatch out;
     handler_.on_frame(f, t_ms * kMs, out);
     return {out.frames.begin(), out.frames.begin() + static_cast<std::ptrdiff_t>(out.size)};
   }
@@ -56,7 +58,7 @@ class RequestHandlerTest : public ::testing::Test {
   }
 
   compensation::MoveCompensator comp_;
-  RequestHandler handler_{comp_, kBase, std::chrono::milliseconds(50)};
+  CanRequestHandler handler_{comp_, kBase, std::chrono::milliseconds(50)};
 };
 
 TEST_F(RequestHandlerTest, ThreePartsInOrderGetTheResponse) {
@@ -139,7 +141,7 @@ TEST_F(RequestHandlerTest, PartWithoutItsPredecessorIsRejected) {
 TEST_F(RequestHandlerTest, TimeoutBetweenPartsIsRejectedOnceAndNeverAnswered) {
   const RequestFrames f = request(30);
   feed(f[0], 0);
-  FrameBatch out;
+  CanFrameBatch out;
   handler_.on_time(49 * kMs, out);
   EXPECT_EQ(out.size, 0u);
   handler_.on_time(50 * kMs, out);
@@ -175,7 +177,7 @@ TEST_F(RequestHandlerTest, LatePartExpiresTheRequestEvenWithoutATick) {
 TEST_F(RequestHandlerTest, ClockNearTheEndOfInt64StillAnswers) {
   const RequestFrames f = request(32);
   const std::int64_t end = std::numeric_limits<std::int64_t>::max();
-  FrameBatch out;
+  CanFrameBatch out;
   handler_.on_frame(f[0], end - 3, out);
   handler_.on_frame(f[1], end - 2, out);
   EXPECT_EQ(out.size, 0u);
@@ -278,9 +280,9 @@ TEST_F(RequestHandlerTest, RandomFramesNeverCrashOrOverflow) {
     f.dlc = static_cast<std::uint8_t>(next() % 9);
     const std::uint64_t w = next();
     for (std::size_t i = 0; i < f.dlc; ++i) f.data[i] = static_cast<std::uint8_t>(w >> (8 * i));
-    FrameBatch out;
+    CanFrameBatch out;
     handler_.on_frame(f, n * kMs / 10, out);
-    ASSERT_LE(out.size, FrameBatch::kCapacity);
+    ASSERT_LE(out.size, CanFrameBatch::kCapacity);
   }
   const CanCounters c = handler_.counters();
   EXPECT_EQ(c.frames_in, 100000u);

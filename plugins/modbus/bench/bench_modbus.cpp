@@ -17,7 +17,7 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins;
-namespace map = cmmcomp::plugins::modbus_map;
+namespace map = cmmcomp::plugins::modbus;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kTransactions = 10000;

@@ -20,9 +20,9 @@ struct ModbusTcpAduResponder::Impl {
   Impl(const compensation::MoveCompensator& compensator, std::uint8_t unit_id)
       : handler(compensator, unit_id, ModbusTransport::kTcp) {
     mapping.tab_registers = handler.holding().data();
-    mapping.nb_registers = modbus_map::kHoldingCount;
+    mapping.nb_registers = modbus::kHoldingCount;
     mapping.tab_input_registers = handler.input().data();
-    mapping.nb_input_registers = modbus_map::kInputCount;
+    mapping.nb_input_registers = modbus::kInputCount;
     // Never connected: only the framing, the reply builder and the socket slot are used.
     ctx = modbus_new_tcp("127.0.0.1", 502);
     if (ctx == nullptr) {

@@ -170,9 +170,9 @@ struct ModbusServer::Impl {
             static_cast<std::uint8_t>(opts.unit_id),
             ep.kind == ModbusEndpoint::Kind::kTcp ? ModbusTransport::kTcp : ModbusTransport::kRtu) {
     mapping.tab_registers = handler.holding().data();
-    mapping.nb_registers = modbus_map::kHoldingCount;
+    mapping.nb_registers = modbus::kHoldingCount;
     mapping.tab_input_registers = handler.input().data();
-    mapping.nb_input_registers = modbus_map::kInputCount;
+    mapping.nb_input_registers = modbus::kInputCount;
   }
 
   ~Impl() {

@@ -12,7 +12,7 @@
 
 namespace {
 
-namespace map = cmmcomp::plugins::modbus_map;
+namespace map = cmmcomp::plugins::modbus;
 
 /// An FC16 PDU writing holding registers 0 .. 24 from `h` into `pdu`; returns its length.
 std::size_t write_pdu(const map::HoldingRegisters& h, std::uint8_t* pdu) {

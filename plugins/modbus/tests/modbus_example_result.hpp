@@ -12,7 +12,7 @@ namespace cmmcomp::test {
 
 /// The example request (sequence 7) answered by the example model: MPE 11, RPE −1.5, MAE 5,
 /// RAE 2 µm, correction (1.2, 0, −1.6) µm as binary32, status ok.
-inline void expect_example_result(const plugins::modbus_map::Result& r) {
+inline void expect_example_result(const plugins::modbus::Result& r) {
   EXPECT_EQ(r.sequence, 7);
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(r.flags, compensation::kFlagOk);

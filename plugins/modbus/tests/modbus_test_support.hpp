@@ -116,22 +116,22 @@ inline Client connect_client(int port, int unit = 1) {
 
 /// Writes `m` (FC16, the whole request block, sequence last). libmodbus's return value.
 inline int write_request(modbus_t* c, const compensation::MoveRequest& m) {
-  plugins::modbus_map::HoldingRegisters h{};
-  plugins::modbus_map::encode_request(m, h);
-  return modbus_write_registers(c, 0, plugins::modbus_map::kRequestCount, h.data());
+  plugins::modbus::HoldingRegisters h{};
+  plugins::modbus::encode_request(m, h);
+  return modbus_write_registers(c, 0, plugins::modbus::kRequestCount, h.data());
 }
 
 /// Reads every input register (FC04); false on error.
-inline bool read_inputs(modbus_t* c, plugins::modbus_map::InputRegisters& in) {
-  return modbus_read_input_registers(c, 0, plugins::modbus_map::kInputCount, in.data()) ==
-         plugins::modbus_map::kInputCount;
+inline bool read_inputs(modbus_t* c, plugins::modbus::InputRegisters& in) {
+  return modbus_read_input_registers(c, 0, plugins::modbus::kInputCount, in.data()) ==
+         plugins::modbus::kInputCount;
 }
 
 /// One FC23 transaction: writes `m` and reads the result copy; false on error.
 inline bool transact(modbus_t* c,
                      const compensation::MoveRequest& m,
-                     plugins::modbus_map::Result& out) {
-  namespace map = plugins::modbus_map;
+                     plugins::modbus::Result& out) {
+  namespace map = plugins::modbus;
   map::HoldingRegisters h{};
   map::encode_request(m, h);
   std::array<std::uint16_t, map::kResultWords> copy{};

@@ -16,7 +16,7 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins;
-namespace map = cmmcomp::plugins::modbus_map;
+namespace map = cmmcomp::plugins::modbus;
 
 TEST(ModbusRequestHandlerRt, HandleDoesNotAllocate) {
   compensation::MoveCompensator comp;

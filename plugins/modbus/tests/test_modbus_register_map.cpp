@@ -22,7 +22,7 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins;
-namespace map = cmmcomp::plugins::modbus_map;
+namespace map = cmmcomp::plugins::modbus;
 
 TEST(ModbusRegisterMap, WordOrderIsMostSignificantFirst) {
   std::uint16_t r[4] = {};

@@ -15,7 +15,7 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins;
-namespace map = cmmcomp::plugins::modbus_map;
+namespace map = cmmcomp::plugins::modbus;
 using Kind = ModbusDecision::Kind;
 
 std::vector<std::uint8_t> pdu_write(std::uint16_t address, const std::vector<std::uint16_t>& regs) {

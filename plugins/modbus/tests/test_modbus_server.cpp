@@ -28,7 +28,7 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins;
-namespace map = cmmcomp::plugins::modbus_map;
+namespace map = cmmcomp::plugins::modbus;
 
 /// Expected result of test::example_model() (or `c0`-shifted variants) at `m`: exact in binary32.
 void expect_example_result(const map::Result& r,

@@ -17,7 +17,7 @@ namespace {
 
 using namespace cmmcomp;
 using namespace cmmcomp::plugins;
-namespace map = cmmcomp::plugins::modbus_map;
+namespace map = cmmcomp::plugins::modbus;
 
 /// Resident set size [bytes] from /proc/self/statm.
 long resident_bytes() {

@@ -39,57 +39,55 @@ struct CanCounters {
   std::uint64_t ignored = 0;       ///< frames with other identifiers (0 while the filter works)
 };
 
-namespace can {
-
 /// The frames one call produces: at most two rejects, or one reject and three response frames.
-struct FrameBatch {
+struct CanFrameBatch {
   static constexpr std::size_t kCapacity = 4;
-  std::array<Frame, kCapacity> frames{};
+  std::array<can::Frame, kCapacity> frames{};
   std::size_t size = 0;
 
   /// Appends `f`; a full batch drops it (cannot happen with the handler's bounds). RT-safe.
-  void push(const Frame& f) noexcept {
+  void push(const can::Frame& f) noexcept {
     if (size < kCapacity) frames[size++] = f;
   }
 };
 
 /// Reassembles requests and answers them (see the file comment). Single-threaded: one thread
 /// calls on_frame/on_time; counters() may be read from any thread.
-class RequestHandler {
+class CanRequestHandler {
  public:
   /// `compensator` must outlive the handler. `part_timeout` > 0 is the longest gap allowed
   /// between two parts of a request. Setup only.
-  RequestHandler(const compensation::MoveCompensator& compensator,
-                 std::uint32_t base_id,
-                 std::chrono::nanoseconds part_timeout) noexcept
+  CanRequestHandler(const compensation::MoveCompensator& compensator,
+                    std::uint32_t base_id,
+                    std::chrono::nanoseconds part_timeout) noexcept
       : compensator_(compensator), base_id_(base_id), part_timeout_ns_(part_timeout.count()) {}
 
   /// Handles one received frame at time `now_ns` (any monotonic clock, ns) and appends the
   /// frames to send to `out`. Frames with another identifier are counted as ignored. RT-safe:
   /// no allocation, no exception, no syscall, bounded (one compensator call at most).
-  void on_frame(const Frame& f, std::int64_t now_ns, FrameBatch& out) noexcept {
-    if (f.id != base_id_ + kRequestOffset) {
+  void on_frame(const can::Frame& f, std::int64_t now_ns, CanFrameBatch& out) noexcept {
+    if (f.id != base_id_ + can::kRequestOffset) {
       bump(counters_.ignored);
       return;
     }
     bump(counters_.frames_in);
     on_time(now_ns, out);  // a part that comes after the deadline finds the request expired
-    const std::uint64_t w = load_word(f);
+    const std::uint64_t w = can::load_word(f);
     const bool readable = f.dlc >= 1;
-    const auto part = static_cast<std::uint8_t>(get_raw(w, request::kPart));
-    const auto sequence = static_cast<std::uint8_t>(get_raw(w, request::kSequence));
-    if (f.dlc != kFrameDlc) {
-      malformed(RejectReason::kWrongDlc, readable, sequence, part, out);
+    const auto part = static_cast<std::uint8_t>(can::get_raw(w, can::request::kPart));
+    const auto sequence = static_cast<std::uint8_t>(can::get_raw(w, can::request::kSequence));
+    if (f.dlc != can::kFrameDlc) {
+      malformed(can::RejectReason::kWrongDlc, readable, sequence, part, out);
       return;
     }
-    if (part >= kRequestParts) {
-      malformed(RejectReason::kUnknownPart, true, sequence, part, out);
+    if (part >= can::kRequestParts) {
+      malformed(can::RejectReason::kUnknownPart, true, sequence, part, out);
       return;
     }
     if (part == 0) {
       if (assembling_) {
         bump(counters_.incomplete);
-        reject(RejectReason::kIncomplete, sequence_, next_part_, 0, 0, out);
+        reject(can::RejectReason::kIncomplete, sequence_, next_part_, 0, 0, out);
       }
       assembling_ = true;
       sequence_ = sequence;
@@ -99,19 +97,19 @@ class RequestHandler {
       return;
     }
     if (!assembling_) {
-      malformed(RejectReason::kMissingPart, true, sequence, part, out, false);
+      malformed(can::RejectReason::kMissingPart, true, sequence, part, out, false);
       return;
     }
     if (sequence != sequence_) {  // a stray part of another request; the current one goes on
-      malformed(RejectReason::kSequenceMismatch, true, sequence, part, out, false);
+      malformed(can::RejectReason::kSequenceMismatch, true, sequence, part, out, false);
       return;
     }
     if (part != next_part_) {  // a duplicate or a skipped part: the request cannot be trusted
-      malformed(RejectReason::kMissingPart, true, sequence, part, out);
+      malformed(can::RejectReason::kMissingPart, true, sequence, part, out);
       return;
     }
     words_[part] = w;
-    if (part + 1 < kRequestParts) {
+    if (part + 1 < can::kRequestParts) {
       next_part_ = static_cast<std::uint8_t>(part + 1);
       deadline_ns_ = deadline_after(now_ns);
       return;
@@ -122,11 +120,11 @@ class RequestHandler {
 
   /// Expires a request whose next part is overdue at `now_ns` (reject kTimeout). Call it when
   /// the deadline passes without a frame. RT-safe.
-  void on_time(std::int64_t now_ns, FrameBatch& out) noexcept {
+  void on_time(std::int64_t now_ns, CanFrameBatch& out) noexcept {
     if (assembling_ && now_ns >= deadline_ns_) {
       assembling_ = false;
       bump(counters_.timeouts);
-      reject(RejectReason::kTimeout, sequence_, next_part_, 0, 0, out);
+      reject(can::RejectReason::kTimeout, sequence_, next_part_, 0, 0, out);
     }
   }
 
@@ -154,8 +152,8 @@ class RequestHandler {
   }
 
   /// The heartbeat as of now (tick = heartbeats sent so far) and counts it. RT-safe.
-  HeartbeatInfo next_heartbeat() noexcept {
-    HeartbeatInfo h;
+  can::HeartbeatInfo next_heartbeat() noexcept {
+    can::HeartbeatInfo h;
     h.tick = static_cast<std::uint8_t>(counters_.heartbeats.load(std::memory_order_relaxed) & 0x1F);
     h.requests = static_cast<std::uint16_t>(counters_.requests.load(std::memory_order_relaxed));
     h.answered = static_cast<std::uint16_t>(counters_.answered.load(std::memory_order_relaxed));
@@ -194,42 +192,42 @@ class RequestHandler {
     c.store(c.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   }
 
-  void reject(RejectReason reason,
+  void reject(can::RejectReason reason,
               std::uint8_t sequence,
               std::uint8_t part,
               std::uint8_t detail,
               std::int16_t status,
-              FrameBatch& out) noexcept {
+              CanFrameBatch& out) noexcept {
     bump(counters_.rejected);
-    RejectInfo r;
+    can::RejectInfo r;
     r.reason = reason;
     r.sequence = sequence;
     r.part = part;
     r.detail = detail;
     r.status = status;
     r.rejected = static_cast<std::uint16_t>(counters_.rejected.load(std::memory_order_relaxed));
-    out.push(encode_reject(r, base_id_));
+    out.push(can::encode_reject(r, base_id_));
   }
 
   /// Rejects a frame that breaks a framing rule. With `abandons`, a request being assembled is
   /// dropped too when the frame may belong to it (same sequence, or the sequence unreadable).
-  void malformed(RejectReason reason,
+  void malformed(can::RejectReason reason,
                  bool readable,
                  std::uint8_t sequence,
                  std::uint8_t part,
-                 FrameBatch& out,
+                 CanFrameBatch& out,
                  bool abandons = true) noexcept {
     bump(counters_.malformed);
     if (abandons && assembling_ && (!readable || sequence == sequence_)) assembling_ = false;
-    reject(reason, readable ? sequence : kUnknown, readable ? part : kUnknown, 0, 0, out);
+    reject(reason, readable ? sequence : can::kUnknown, readable ? part : can::kUnknown, 0, 0, out);
   }
 
-  void answer(FrameBatch& out) noexcept {
+  void answer(CanFrameBatch& out) noexcept {
     bump(counters_.requests);
     compensation::MoveRequest move;
-    const RequestCheck check = decode_request(words_, sequence_, move);
-    if (check.reason != RejectReason::kNone) {
-      if (check.reason == RejectReason::kFieldOutOfRange) {
+    const can::RequestCheck check = can::decode_request(words_, sequence_, move);
+    if (check.reason != can::RejectReason::kNone) {
+      if (check.reason == can::RejectReason::kFieldOutOfRange) {
         bump(counters_.out_of_range);
       } else {
         bump(counters_.malformed);
@@ -241,26 +239,26 @@ class RequestHandler {
     const Status s = compensator_.before_approach(move, c);
     if (!ok(s)) {
       bump(counters_.refused);
-      const RejectReason reason = s == Status::kNoModel ? RejectReason::kNoModel
-                                  : s == Status::kOutsideDomainRejected
-                                      ? RejectReason::kOutsideDomain
-                                      : RejectReason::kInvalidMove;
-      reject(reason, sequence_, kUnknown, 0, static_cast<std::int16_t>(s), out);
+      const can::RejectReason reason = s == Status::kNoModel ? can::RejectReason::kNoModel
+                                       : s == Status::kOutsideDomainRejected
+                                           ? can::RejectReason::kOutsideDomain
+                                           : can::RejectReason::kInvalidMove;
+      reject(reason, sequence_, can::kUnknown, 0, static_cast<std::int16_t>(s), out);
       return;
     }
-    ResponseFrames frames;
-    ResponseField bad = ResponseField::kNone;
-    if (encode_response(c, move.axis, base_id_, frames, &bad) != Status::kOk) {
+    can::ResponseFrames frames;
+    can::ResponseField bad = can::ResponseField::kNone;
+    if (can::encode_response(c, move.axis, base_id_, frames, &bad) != Status::kOk) {
       bump(counters_.out_of_range);
-      reject(RejectReason::kResultOutOfRange,
+      reject(can::RejectReason::kResultOutOfRange,
              sequence_,
-             kUnknown,
+             can::kUnknown,
              static_cast<std::uint8_t>(bad),
              static_cast<std::int16_t>(s),
              out);
       return;
     }
-    for (const Frame& f : frames) out.push(f);
+    for (const can::Frame& f : frames) out.push(f);
     bump(counters_.answered);
   }
 
@@ -271,9 +269,8 @@ class RequestHandler {
   std::uint8_t sequence_ = 0;
   std::uint8_t next_part_ = 0;
   std::int64_t deadline_ns_ = 0;
-  std::array<std::uint64_t, kRequestParts> words_{};
+  std::array<std::uint64_t, can::kRequestParts> words_{};
   AtomicCounters counters_;
 };
 
-}  // namespace can
 }  // namespace cmmcomp::plugins

@@ -69,11 +69,11 @@ class CanServer {
   const CanServerOptions& options() const noexcept { return options_; }
 
  private:
-  void send(const can::FrameBatch& batch, bool as_fd) noexcept;
+  void send(const CanFrameBatch& batch, bool as_fd) noexcept;
   void send_heartbeat() noexcept;
 
   CanServerOptions options_;
-  can::RequestHandler handler_;
+  CanRequestHandler handler_;
   int socket_ = -1;
   bool last_request_fd_ = false;  ///< format of the last request frame: rejects by timeout use it
 };

@@ -19,7 +19,7 @@
 #include <cstring>
 #include <limits>
 
-namespace cmmcomp::plugins::modbus_map {
+namespace cmmcomp::plugins::modbus {
 
 /// Version of the register map in input register kProtocolVersion; bumped on any change that a
 /// client can observe.
@@ -341,4 +341,4 @@ inline Result decode_result(const InputRegisters& in) noexcept {
   return r;
 }
 
-}  // namespace cmmcomp::plugins::modbus_map
+}  // namespace cmmcomp::plugins::modbus

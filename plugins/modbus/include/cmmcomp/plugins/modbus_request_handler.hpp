@@ -83,7 +83,7 @@ class ModbusRequestHandler {
       : compensator_(compensator), unit_id_(unit_id), transport_(transport) {
     holding_.fill(0);
     input_.fill(0);
-    input_[modbus_map::kProtocolVersionReg] = modbus_map::kProtocolVersion;
+    input_[modbus::kProtocolVersionReg] = modbus::kProtocolVersion;
   }
   ModbusRequestHandler(const ModbusRequestHandler&) = delete;
   ModbusRequestHandler& operator=(const ModbusRequestHandler&) = delete;
@@ -117,7 +117,7 @@ class ModbusRequestHandler {
         const std::uint16_t address = be16(pdu + 1);
         const std::uint16_t count = be16(pdu + 3);
         const std::size_t limit =
-            function == kReadHoldingRegisters ? modbus_map::kHoldingCount : modbus_map::kInputCount;
+            function == kReadHoldingRegisters ? modbus::kHoldingCount : modbus::kInputCount;
         if (count < 1 || count > 125) return exception(kIllegalDataValue);
         if (std::size_t{address} + count > limit) return exception(kIllegalDataAddress);
         if (function == kReadInputRegisters) refresh_status();
@@ -144,7 +144,7 @@ class ModbusRequestHandler {
             pdu[9] != 2 * write_count || size != 10 + 2u * write_count) {
           return exception(kIllegalDataValue);
         }
-        if (std::size_t{read_address} + read_count > modbus_map::kHoldingCount) {
+        if (std::size_t{read_address} + read_count > modbus::kHoldingCount) {
           return exception(kIllegalDataAddress);
         }
         return write(be16(pdu + 5), write_count, pdu + 10);  // the read follows the write
@@ -156,11 +156,11 @@ class ModbusRequestHandler {
 
   /// The holding-register image (the request); libmodbus reads and writes it through
   /// modbus_mapping_t::tab_registers, only from the server thread.
-  modbus_map::HoldingRegisters& holding() noexcept { return holding_; }
-  const modbus_map::HoldingRegisters& holding() const noexcept { return holding_; }
+  modbus::HoldingRegisters& holding() noexcept { return holding_; }
+  const modbus::HoldingRegisters& holding() const noexcept { return holding_; }
   /// The input-register image (result and status); modbus_mapping_t::tab_input_registers.
-  modbus_map::InputRegisters& input() noexcept { return input_; }
-  const modbus_map::InputRegisters& input() const noexcept { return input_; }
+  modbus::InputRegisters& input() noexcept { return input_; }
+  const modbus::InputRegisters& input() const noexcept { return input_; }
 
   /// The server reports what happens outside `handle`. RT-safe.
   void note_client_connected() noexcept {
@@ -228,39 +228,39 @@ class ModbusRequestHandler {
   ModbusDecision write(std::uint16_t address,
                        std::uint16_t count,
                        const std::uint8_t* data) noexcept {
-    if (std::size_t{address} + count > modbus_map::kRequestCount) {  // the copy is read-only
+    if (std::size_t{address} + count > modbus::kRequestCount) {  // the copy is read-only
       return exception(kIllegalDataAddress);
     }
-    modbus_map::HoldingRegisters merged = holding_;
+    modbus::HoldingRegisters merged = holding_;
     for (std::uint16_t i = 0; i < count; ++i) {
       merged[static_cast<std::size_t>(address + i)] = be16(data + 2 * i);
     }
     for (std::uint16_t i = 0; i < count; ++i) {
-      if (modbus_map::check_field(merged, static_cast<std::uint16_t>(address + i)) != Status::kOk) {
+      if (modbus::check_field(merged, static_cast<std::uint16_t>(address + i)) != Status::kOk) {
         return exception(kIllegalDataValue);
       }
     }
-    const bool trigger = address + count > modbus_map::kSequence;
+    const bool trigger = address + count > modbus::kSequence;
     if (!trigger) {
       holding_ = merged;
       return reply();
     }
     compensation::MoveRequest request;
-    if (modbus_map::decode_request(merged, request) != Status::kOk ||
+    if (modbus::decode_request(merged, request) != Status::kOk ||
         compensation::validate_move(request) != Status::kOk) {
       return exception(kIllegalDataValue);
     }
     compensation::Correction correction;
     const Status status = compensator_.before_approach(request, correction);
     // Staging: the result block is built completely, then replaces the served one in one copy.
-    modbus_map::InputRegisters staged = input_;
-    modbus_map::encode_result(
-        merged[modbus_map::kSequence], merged[modbus_map::kAxis], status, correction, staged);
+    modbus::InputRegisters staged = input_;
+    modbus::encode_result(
+        merged[modbus::kSequence], merged[modbus::kAxis], status, correction, staged);
     holding_ = merged;
-    for (std::size_t r = 0; r < modbus_map::kResultWords; ++r) {
-      const std::uint16_t v = staged[modbus_map::kResultSequence + r];
-      input_[modbus_map::kResultSequence + r] = v;
-      holding_[modbus_map::kResultCopy + r] = v;
+    for (std::size_t r = 0; r < modbus::kResultWords; ++r) {
+      const std::uint16_t v = staged[modbus::kResultSequence + r];
+      input_[modbus::kResultSequence + r] = v;
+      holding_[modbus::kResultCopy + r] = v;
     }
     bump(computations_);
     return reply();
@@ -269,7 +269,7 @@ class ModbusRequestHandler {
   /// Copies the counters (low 32 bits) and the current model id of every axis into the status
   /// block, so a read shows them as of this request.
   void refresh_status() noexcept {
-    using namespace modbus_map;
+    using namespace modbus;
     put_u32(&input_[kRequests],
             static_cast<std::uint32_t>(requests_.load(std::memory_order_relaxed)));
     put_u32(&input_[kAnswered],
@@ -291,8 +291,8 @@ class ModbusRequestHandler {
   const compensation::MoveCompensator& compensator_;
   std::uint8_t unit_id_;
   ModbusTransport transport_;
-  modbus_map::HoldingRegisters holding_{};
-  modbus_map::InputRegisters input_{};
+  modbus::HoldingRegisters holding_{};
+  modbus::InputRegisters input_{};
   Counter requests_{0};
   Counter answered_{0};
   Counter rejected_{0};

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "agent/agent_process.hpp"
 #include "line_forms.hpp"
+#include "tools/agent/agent_process.hpp"
 
 #ifndef CMMCOMP_AGENT_PATH
 #error "CMMCOMP_AGENT_PATH must name the cmmcomp-agent executable"

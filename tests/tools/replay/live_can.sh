@@ -2,14 +2,14 @@
 # SPDX-License-Identifier: MIT
 # live_can.sh AGENT REPLAY DATA_DIR WORKDIR — the hil replay over CAN; run inside the UML guest
 # (scripts/uml-run.sh). For every can-*.log in DATA_DIR (model: the repository's
-# data/models/default-y.json for *-default-y.log, else default.json, as tests/replay/CMakeLists.txt
+# data/models/default-y.json for *-default-y.log, else default.json, as tests/tools/replay/CMakeLists.txt
 # chooses), starts cmmcomp-agent on vcan0
 # and replays the recording against it twice: with cmmcomp-replay --live can:vcan0 (own raw
 # socket, field-by-field report), and with can-utils (canplayer sends the request frames,
 # candump -L captures the answers, compared with the recorded answers frame for frame).
 set -euo pipefail
 agent="$1"; replay="$2"; data="$3"; work="$4"
-root="$(cd "$data/../../.." && pwd)"
+root="$(cd "$data/../../../.." && pwd)"
 mkdir -p "$work"
 pid=""; dump=""
 cleanup() {

@@ -27,8 +27,8 @@
 #include <thread>
 #include <vector>
 
-#include "agent/agent_process.hpp"
 #include "support/loopback_socket.hpp"
+#include "tools/agent/agent_process.hpp"
 
 #ifndef CMMCOMP_AGENT_PATH
 #error "CMMCOMP_AGENT_PATH must name the cmmcomp-agent executable"
@@ -37,7 +37,7 @@
 namespace cmmcomp {
 namespace {
 
-namespace map = plugins::modbus_map;
+namespace map = plugins::modbus;
 using namespace std::chrono_literals;
 using test::AgentProcess;
 

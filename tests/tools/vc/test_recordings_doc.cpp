@@ -55,21 +55,21 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
     EXPECT_EQ(a.size(), 6u + ((std::size_t{a[4]} << 8) | a[5])) << "MBAP length";
   }
   // The request registers start at byte 17 (after MBAP, FC23's four addresses and byte count).
-  plugins::modbus_map::HoldingRegisters h{};
-  for (std::size_t i = 0; i < plugins::modbus_map::kRequestCount; ++i) {
+  plugins::modbus::HoldingRegisters h{};
+  for (std::size_t i = 0; i < plugins::modbus::kRequestCount; ++i) {
     h[i] = static_cast<std::uint16_t>((adus[0][17 + 2 * i] << 8) | adus[0][18 + 2 * i]);
   }
   compensation::MoveRequest m;
-  ASSERT_EQ(plugins::modbus_map::decode_request(h, m), Status::kOk);
+  ASSERT_EQ(plugins::modbus::decode_request(h, m), Status::kOk);
   EXPECT_EQ(m.direction[0], -1.0);
   EXPECT_EQ(m.pv_mm_s, 100.0);
   EXPECT_EQ(m.ad_mm, 10.0);
   EXPECT_EQ(m.sequence, 1u);
-  plugins::modbus_map::InputRegisters in{};
-  for (std::size_t i = 0; i < plugins::modbus_map::kResultWords; ++i) {
+  plugins::modbus::InputRegisters in{};
+  for (std::size_t i = 0; i < plugins::modbus::kResultWords; ++i) {
     in[1 + i] = static_cast<std::uint16_t>((adus[1][9 + 2 * i] << 8) | adus[1][10 + 2 * i]);
   }
-  const auto r = plugins::modbus_map::decode_result(in);
+  const auto r = plugins::modbus::decode_result(in);
   EXPECT_EQ(r.sequence, 1u);
   EXPECT_NEAR(r.rae_um, -5.298, 5e-4);
   EXPECT_NEAR(r.correction_um[0], 5.298, 5e-4);

@@ -12,17 +12,17 @@
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
 #include <cmmcomp/exceptions.hpp>
-#include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/schema.hpp>
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace cmmcomp::io {
+namespace cmmcomp::doe {
 
 /// One ANOVA table per parameter.
 struct DatasetAnova {
-  doe::AnovaTable mpe, rpe, mae, rae;
+  AnovaTable mpe, rpe, mae, rae;
   int runs = 0;     ///< distinct move settings
   int samples = 0;  ///< rows
 };
@@ -90,4 +90,4 @@ inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
   return out;
 }
 
-}  // namespace cmmcomp::io
+}  // namespace cmmcomp::doe
