@@ -35,6 +35,7 @@ layer_of() {
     include/cmmcomp/dynamics/* | include/cmmcomp/doe/* | src/dynamics/* \
       | cmmcomp/dynamics/* | cmmcomp/doe/*) echo twin ;;
     include/cmmcomp/training/* | src/training/* | cmmcomp/training/*) echo training ;;
+    include/cmmcomp/measure/* | src/measure/* | cmmcomp/measure/*) echo measure ;;
     src/capi/*) echo capi ;;
     plugins/*/include/* | plugins/*/src/* | cmmcomp/plugins/*) echo plugins ;;
     tools/serving/*) echo serving ;;
@@ -50,6 +51,7 @@ allowed() {
     io) echo "core io" ;;
     twin) echo "core io twin" ;;
     training) echo "core io twin training" ;;
+    measure) echo "core io twin measure" ;;
     capi) echo "core io" ;;
     plugins) echo "core plugins" ;;
     serving) echo "core io plugins serving" ;;

@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmmcomp/doe/dataset_anova.hpp>
 #include <cmmcomp/doe/designs.hpp>
+#include <cmmcomp/doe/levels.hpp>
 #include <cmmcomp/doe/orthogonal_array.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/dataset.hpp>
@@ -17,6 +18,7 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/profile_report.hpp>
+#include <cmmcomp/measure/twin_recording.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/schema.hpp>
@@ -24,6 +26,7 @@
 #include <cmmcomp/version.hpp>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -127,24 +130,11 @@ int run_move(const MoveCommand& cmd) {
 }
 
 /// The paper's Table 3 as a --levels value: "pv=40,70,100;pd=40,60,80;av=8,12,16;ad=5,10,15".
-std::string table3_levels() {
-  std::string s;
-  for (std::size_t f = 0; f < cmmcomp::paper::kTable3Levels.size(); ++f) {
-    std::string name = cmmcomp::PaperInputs::labels()[f];
-    for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    s += fmt::format("{}{}=", f == 0 ? "" : ";", name);
-    const auto& levels = cmmcomp::paper::kTable3Levels[f];
-    for (std::size_t l = 0; l < levels.size(); ++l)
-      s += fmt::format("{}{:g}", l == 0 ? "" : ",", levels[l]);
-  }
-  return s;
-}
-
 struct DatasetCommand {
   std::string design = "l18";
   int repeats = 1;
   int samples = 270;
-  std::string levels = table3_levels();
+  std::string levels = cmmcomp::doe::table3_levels_text();
   double pa = cmmcomp::paper::kBaseline.pa_mm_s2, aa = cmmcomp::paper::kBaseline.aa_mm_s2,
          y_mm = cmmcomp::paper::kBaseline.y_mm;
   std::string machine_path, output;
@@ -153,57 +143,8 @@ struct DatasetCommand {
   int threads = 0;
 };
 
-/// Parses "pv=40,70,100;pd=40,60,80;av=8,12,16;ad=5,10,15" into the four factors (SI units).
-std::vector<cmmcomp::doe::Factor> parse_levels(const std::string& text) {
-  std::map<std::string, std::vector<double>> found;
-  std::istringstream groups(text);
-  std::string group;
-  while (std::getline(groups, group, ';')) {
-    const auto eq = group.find('=');
-    if (eq == std::string::npos) {
-      throw cmmcomp::ConfigError("--levels: '" + group + "' is not NAME=v1,v2,...");
-    }
-    const std::string name = group.substr(0, eq);
-    if (name != "pv" && name != "pd" && name != "av" && name != "ad" && name != "y") {
-      throw cmmcomp::ConfigError("--levels: unknown factor '" + name + "' (pv, pd, av, ad, y)");
-    }
-    std::istringstream values(group.substr(eq + 1));
-    std::string v;
-    while (std::getline(values, v, ',')) {
-      try {
-        std::size_t used = 0;
-        const double x = std::stod(v, &used);
-        // Y (carriage position) may be 0, the drive side; the move parameters must be > 0.
-        if (used != v.size() || !(name == "y" ? x >= 0 : x > 0)) throw std::invalid_argument(v);
-        found[name].push_back(x * kMm);
-      } catch (const std::exception&) {
-        throw cmmcomp::ConfigError(
-            "--levels: factor '" + name + "': '" + v +
-            (name == "y" ? "' is not a number >= 0" : "' is not a positive number"));
-      }
-    }
-  }
-  std::vector<cmmcomp::doe::Factor> factors;
-  for (const char* name : {"pv", "pd", "av", "ad"}) {
-    if (found[name].empty()) throw cmmcomp::ConfigError(std::string("--levels: no ") + name);
-    std::string upper = name;
-    for (char& ch : upper) ch = static_cast<char>(ch - 'a' + 'A');
-    factors.push_back({upper, found[name]});
-  }
-  // Optional fifth factor: the carriage position, for models with Y as an input.
-  if (!found["y"].empty()) factors.push_back({"Y", found["y"]});
-  return factors;
-}
-
 cmmcomp::doe::Design design_from(const DatasetCommand& cmd) {
-  try {
-    return cmmcomp::doe::design_by_name(
-        cmd.design, parse_levels(cmd.levels), cmd.samples, cmd.seed);
-  } catch (const cmmcomp::ConfigError& e) {
-    // The library names the design; the user wrote it as --design.
-    const std::string what = e.what();
-    throw cmmcomp::ConfigError(what.rfind("design ", 0) == 0 ? "--" + what : what);
-  }
+  return cmmcomp::doe::design_from_text(cmd.design, cmd.levels, cmd.samples, cmd.seed);
 }
 
 int run_dataset(const DatasetCommand& cmd) {
@@ -232,6 +173,37 @@ int run_dataset(const DatasetCommand& cmd) {
               std::max(1, cmd.repeats),
               cmd.noise ? "on" : "off",
               cmd.output.c_str());
+  return 0;
+}
+
+struct RecordCommand {
+  std::string plan, machine_path, out;
+  cmmcomp::measure::RecordingSetup setup;
+  double drift_ppm = 0, offset_ms = 0;
+};
+
+/// A measurement campaign on the twin: every move of plan.csv, recorded as a real set-up would.
+int run_record(RecordCommand cmd) {
+  namespace measure = cmmcomp::measure;
+  cmd.setup.drift = cmd.drift_ppm * 1e-6;
+  cmd.setup.clock_offset_s = cmd.offset_ms * 1e-3;
+  const std::vector<measure::PlannedMove> plan = measure::read_plan_csv(cmd.plan);
+  const std::vector<measure::TwinMove> moves =
+      measure::record_on_twin(machine_from(cmd.machine_path), plan, cmd.setup);
+  std::filesystem::create_directories(cmd.out);
+  std::string exact = "move_id,mpe_um,rpe_um,mae_um,rae_um\n";
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    measure::write_move_recording(cmd.out, moves[i].recording, plan[i].axis);
+    const auto& e = moves[i].exact_um;
+    exact += fmt::format(
+        "{},{:.6f},{:.6f},{:.6f},{:.6f}\n", plan[i].move_id, e.mpe, e.rpe, e.mae, e.rae);
+  }
+  cmmcomp::io::write_file_atomically(cmd.out + "/twin-exact.csv", exact);
+  std::printf("recorded %zu moves (%s) to %s; the twin's exact parameters: %s/twin-exact.csv\n",
+              moves.size(),
+              cmd.setup.two_clocks ? "controller + tracker files" : "one clock",
+              cmd.out.c_str(),
+              cmd.out.c_str());
   return 0;
 }
 
@@ -514,6 +486,30 @@ int main(int argc, char** argv) {
 
   std::string anova_path;
   bool anova_json = false;
+  RecordCommand rec;
+  CLI::App* record = app.add_subcommand(
+      "record", "simulate a measurement campaign: every move of a plan.csv as recordings");
+  record->add_option("--plan", rec.plan, "plan.csv (cmmcomp-measure plan)")->required();
+  record->add_option("-o,--out", rec.out, "directory for the recordings")->required();
+  record->add_option("--machine", rec.machine_path, "machine file (default: embedded)");
+  record->add_flag(
+      "--two-clocks", rec.setup.two_clocks, "controller and tracker files on independent clocks");
+  record->add_option("--controller-rate", rec.setup.controller_rate_hz, "scale log rate [Hz]")
+      ->capture_default_str();
+  record->add_option("--tracker-rate", rec.setup.tracker_rate_hz, "tracker rate [Hz]")
+      ->capture_default_str();
+  record->add_option("--clock-offset-ms", rec.offset_ms, "tracker clock offset [ms]")
+      ->capture_default_str();
+  record->add_option("--drift-ppm", rec.drift_ppm, "tracker clock drift [ppm]")
+      ->capture_default_str();
+  record->add_option("--white-noise-um", rec.setup.white_noise_um, "tracker white noise σ [µm]")
+      ->capture_default_str();
+  record->add_option("--pink-noise-um", rec.setup.pink_noise_um, "tracker 1/f noise σ [µm]")
+      ->capture_default_str();
+  record->add_option("--dropouts", rec.setup.dropout_fraction, "share of tracker samples lost")
+      ->capture_default_str();
+  record->add_option("--seed", rec.setup.seed, "noise seed")->capture_default_str();
+
   CLI::App* anova = app.add_subcommand("anova", "Table 4 ANOVA of a dataset CSV");
   anova->add_option("data", anova_path, "dataset CSV")->required();
   anova->add_flag("--json", anova_json, "print JSON");
@@ -589,6 +585,7 @@ int main(int argc, char** argv) {
     if (move->parsed()) return run_move(move_cmd);
     if (dataset->parsed()) return run_dataset(ds);
     if (anova->parsed()) return run_anova(anova_path, anova_json);
+    if (record->parsed()) return run_record(rec);
     if (identify->parsed()) return run_identify(id);
     if (machine_cmd->parsed() && machine_keys) {
       for (const auto& info : cmmcomp::dynamics::machine_parameter_table()) {

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The real-machine workflow on four machines (docs/training.md, "Other machines"): for the default
+# twin and three variants (data/machines/variant-*.toml), as a user would run it on a machine:
+#   cmmcomp-measure plan (L18 x 3, randomised) -> cmmcomp-sim record (two clocks 37 ms apart with
+#   100 ppm drift, tracker at 2 kHz with 0.3 um white + 0.2 um 1/f noise) -> cmmcomp-measure
+#   extract -> cmmcomp-train fit -> cmmcomp-train eval on 270 Latin-hypercube moves of that
+#   machine (Table 1 noise, seed 2),
+# and the shipped default model (data/models/default.json) on the same test moves.
+# Prints the table; writes everything to WORK (default: a temporary directory).
+# Usage: bash scripts/cross-machine.sh [WORK]   (needs the release tools built)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bin="${CMMCOMP_BIN:-$here/build/release/tools}"
+sim="$bin/cmmcomp-sim/cmmcomp-sim"
+train="$bin/cmmcomp-train/cmmcomp-train"
+measure="$bin/cmmcomp-measure/cmmcomp-measure"
+for tool in "$sim" "$train" "$measure"; do
+  if [ ! -x "$tool" ]; then
+    echo "cross-machine: build the tools first: cmake --build --preset release" >&2
+    exit 2
+  fi
+done
+work="${1:-}"
+if [ -z "$work" ]; then
+  work="$(mktemp -d)"
+  trap 'rm -rf "$work"' EXIT
+fi
+mkdir -p "$work"
+
+# `cmmcomp-train eval --json` -> "reduction % (mean |residual|)" for MPE, RPE, MAE, RAE.
+summary() {
+  awk '/^  "(mpe|rpe|mae|rae)"/ { gsub(/[":{ ]/, ""); key = $0 }
+       /"mean_after_um"/ { gsub(/[",]/, ""); after[key] = $2 }
+       /"reduction_pct"/ { gsub(/[",]/, ""); red[key] = $2 }
+       END { printf "%.1f (%.2f) | %.1f (%.2f) | %.1f (%.2f) | %.1f (%.2f)",
+             red["mpe"], after["mpe"], red["rpe"], after["rpe"], red["mae"], after["mae"],
+             red["rae"], after["rae"] }' "$1"
+}
+
+echo "| machine | extracted | own model: reduction % (mean |residual| µm) MPE | RPE | MAE | RAE | default model: MPE | RPE | MAE | RAE |"
+for name in default variant-mode-20 variant-drag+30 variant-y-participation+30; do
+  machine="$here/data/machines/$name.toml"
+  dir="$work/$name"
+  "$measure" plan --design l18 --repeats 3 --seed 1 -o "$dir" > /dev/null
+  "$sim" record --plan "$dir/plan.csv" --machine "$machine" --two-clocks --clock-offset-ms 37 \
+    --drift-ppm 100 --controller-rate 1000 --tracker-rate 2000 --white-noise-um 0.3 \
+    --pink-noise-um 0.2 --seed 1 -o "$dir/rec" > /dev/null
+  "$measure" extract --plan "$dir/plan.csv" --recordings "$dir/rec" --machine "$machine" \
+    -o "$dir/dataset.csv" > "$dir/extract.txt"
+  "$train" fit "$dir/dataset.csv" --seed 1 -o "$dir/model.json" > /dev/null
+  "$sim" dataset --design lhs --samples 270 --noise --seed 2 --machine "$machine" \
+    -o "$dir/lhs270.csv" > /dev/null
+  "$train" eval "$dir/model.json" "$dir/lhs270.csv" --json > "$dir/own.json"
+  "$train" eval "$here/data/models/default.json" "$dir/lhs270.csv" --json > "$dir/default.json"
+  extracted=$(sed -n 's/^extracted \([0-9]*\) of \([0-9]*\).*/\1\/\2/p' "$dir/extract.txt")
+  echo "| $name | $extracted | $(summary "$dir/own.json") | $(summary "$dir/default.json") |"
+done
