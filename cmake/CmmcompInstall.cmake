@@ -3,8 +3,9 @@ include(CMakePackageConfigHelpers)
 
 # Install components (the Debian packages of cmake/CmmcompPackaging.cmake): dev (headers,
 # libraries, CMake and pkg-config files, the default model), tools, agent.
+# measure/ is cmmcomp::measure's, which is not installed yet (src/CMakeLists.txt).
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/cmmcomp" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-        COMPONENT dev)
+        COMPONENT dev PATTERN "measure" EXCLUDE)
 install(FILES "${PROJECT_BINARY_DIR}/include/cmmcomp/version.hpp"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cmmcomp COMPONENT dev)
 # The shipped default model (what io::default_model_file() compiles in), for tools and programs

@@ -2,7 +2,7 @@
 # Debian packages by CPack (docs/agent.md, "Packages"): `cpack -G DEB` in a build tree, or the
 # ctest package_debs. One package per install component:
 #   cmmcomp-dev    headers, libraries, CMake package config, pkg-config files, default model
-#   cmmcomp-tools  cmmcomp-sim, cmmcomp-train, cmmcomp-replay, cmmcomp-vc
+#   cmmcomp-tools  cmmcomp-sim, cmmcomp-train, cmmcomp-measure, cmmcomp-replay, cmmcomp-vc
 #   cmmcomp-agent  cmmcomp-agent, its systemd unit and /etc/cmmcomp/agent.toml (a conffile)
 # Dependencies come from dpkg-shlibdeps. The packages install under CMMCOMP_PACKAGE_PREFIX.
 set(CMMCOMP_PACKAGE_PREFIX "/usr" CACHE PATH "Install prefix inside the Debian packages")
@@ -41,7 +41,7 @@ set(CPACK_DEBIAN_AGENT_PACKAGE_NAME cmmcomp-agent)
 set(CPACK_COMPONENT_DEV_DESCRIPTION
     "cmmcomp headers and libraries: the header-only real-time core, model and dataset I/O, the digital twin, training, the C ABI")
 set(CPACK_COMPONENT_TOOLS_DESCRIPTION
-    "cmmcomp tools: the twin (cmmcomp-sim), training (cmmcomp-train), replay and the virtual controller")
+    "cmmcomp tools: the twin (cmmcomp-sim), training (cmmcomp-train), the measurement workflow (cmmcomp-measure), replay and the virtual controller")
 set(CPACK_COMPONENT_AGENT_DESCRIPTION
     "cmmcomp-agent: serves the per-move compensator to a CMM controller over SocketCAN and Modbus, as a systemd service")
 # What a CMake consumer of the dev package needs to find (cmmcompConfig.cmake): io's packages

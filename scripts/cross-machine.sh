@@ -4,11 +4,16 @@
 # twin and three variants (data/machines/variant-*.toml), as a user would run it on a machine:
 #   cmmcomp-measure plan (L18 x 3, randomised) -> cmmcomp-sim record (two clocks 37 ms apart with
 #   100 ppm drift, tracker at 2 kHz with 0.3 um white + 0.2 um 1/f noise) -> cmmcomp-measure
-#   extract -> cmmcomp-train fit -> cmmcomp-train eval on 270 Latin-hypercube moves of that
+#   extract (the clock known from a sync event) -> cmmcomp-train fit -> cmmcomp-train eval on 270 Latin-hypercube moves of that
 #   machine (Table 1 noise, seed 2),
 # and the shipped default model (data/models/default.json) on the same test moves.
 # Prints the table; writes everything to WORK (default: a temporary directory).
-# Usage: bash scripts/cross-machine.sh [WORK]   (needs the release tools built)
+# With --check (the ctest accuracy_cross_machine): exit 1 unless, on every machine, the own
+# model meets the paper's Table 5 reductions for MPE, MAE and RAE and still misses RPE's (the
+# network's known limit, docs/training.md: if it is met, the docs must change), and the default
+# model loses on the two variants that change the dynamics (mode, drag): a mean residual at
+# least 1.5 x the own model's in some parameter.
+# Usage: bash scripts/cross-machine.sh [--check] [WORK]   (needs the release tools built)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${CMMCOMP_BIN:-$here/build/release/tools}"
@@ -21,6 +26,11 @@ for tool in "$sim" "$train" "$measure"; do
     exit 2
   fi
 done
+check=0
+if [ "${1:-}" = "--check" ]; then
+  check=1
+  shift
+fi
 work="${1:-}"
 if [ -z "$work" ]; then
   work="$(mktemp -d)"
@@ -38,6 +48,14 @@ summary() {
              red["rae"], after["rae"] }' "$1"
 }
 
+# value FILE PARAMETER KEY: one number of `cmmcomp-train eval --json`.
+value() {
+  awk -v want="$2" -v field="$3" '/^  "(mpe|rpe|mae|rae)"/ { gsub(/[":{ ]/, ""); key = $0 }
+       key == want && $0 ~ "\"" field "\"" { gsub(/[",]/, ""); print $2 }' "$1"
+}
+failures=0
+fail() { echo "cross-machine: FAIL: $*"; failures=$((failures + 1)); }
+
 echo "| machine | extracted | own model: reduction % (mean |residual| µm) MPE | RPE | MAE | RAE | default model: MPE | RPE | MAE | RAE |"
 for name in default variant-mode-20 variant-drag+30 variant-y-participation+30; do
   machine="$here/data/machines/$name.toml"
@@ -46,8 +64,10 @@ for name in default variant-mode-20 variant-drag+30 variant-y-participation+30; 
   "$sim" record --plan "$dir/plan.csv" --machine "$machine" --two-clocks --clock-offset-ms 37 \
     --drift-ppm 100 --controller-rate 1000 --tracker-rate 2000 --white-noise-um 0.3 \
     --pink-noise-um 0.2 --seed 1 -o "$dir/rec" > /dev/null
+  # The tracker's clock known from a sync event (docs/measurement.md, "Clock alignment": from
+  # the motion alone the hose drag's lag would move into the clock offset and out of RPE).
   "$measure" extract --plan "$dir/plan.csv" --recordings "$dir/rec" --machine "$machine" \
-    -o "$dir/dataset.csv" > "$dir/extract.txt"
+    --clock-offset-ms 37 --drift-ppm 100 -o "$dir/dataset.csv" > "$dir/extract.txt"
   "$train" fit "$dir/dataset.csv" --seed 1 -o "$dir/model.json" > /dev/null
   "$sim" dataset --design lhs --samples 270 --noise --seed 2 --machine "$machine" \
     -o "$dir/lhs270.csv" > /dev/null
@@ -55,4 +75,29 @@ for name in default variant-mode-20 variant-drag+30 variant-y-participation+30; 
   "$train" eval "$here/data/models/default.json" "$dir/lhs270.csv" --json > "$dir/default.json"
   extracted=$(sed -n 's/^extracted \([0-9]*\) of \([0-9]*\).*/\1\/\2/p' "$dir/extract.txt")
   echo "| $name | $extracted | $(summary "$dir/own.json") | $(summary "$dir/default.json") |"
+  if [ $check = 1 ]; then
+    # The paper's Table 5 reductions (data/paper: MPE 88.8, RPE 90.8, MAE 80.2, RAE 71.3 %).
+    for pair in mpe:88.8 mae:80.2 rae:71.3; do
+      p=${pair%%:*} target=${pair#*:}
+      got=$(value "$dir/own.json" "$p" reduction_pct)
+      awk -v g="$got" -v t="$target" 'BEGIN { exit !(g >= t) }' ||
+        fail "$name: own model $p reduction $got % < the paper's $target %"
+    done
+    got=$(value "$dir/own.json" rpe reduction_pct)
+    awk -v g="$got" 'BEGIN { exit !(g < 90.8) }' ||
+      fail "$name: RPE reduction $got % now meets the paper's 90.8 %: update docs/training.md"
+    if [ "$name" = variant-mode-20 ] || [ "$name" = variant-drag+30 ]; then
+      worse=0
+      for p in mpe rpe mae rae; do
+        own=$(value "$dir/own.json" "$p" mean_after_um)
+        def=$(value "$dir/default.json" "$p" mean_after_um)
+        awk -v o="$own" -v d="$def" 'BEGIN { exit !(d >= 1.5 * o) }' && worse=1
+      done
+      [ $worse = 1 ] || fail "$name: the default model is not measurably worse than its own"
+    fi
+  fi
 done
+if [ $check = 1 ]; then
+  [ $failures = 0 ] || exit 1
+  echo "cross-machine: PASS"
+fi

@@ -24,7 +24,8 @@ root=$work/root
 for f in usr/include/cmmcomp/schema.hpp usr/include/cmmcomp/compensator.h \
          usr/lib/cmake/cmmcomp/cmmcompConfig.cmake usr/lib/pkgconfig/cmmcomp-core.pc \
          usr/lib/pkgconfig/cmmcomp-capi.pc usr/share/cmmcomp/models/default.json \
-         usr/bin/cmmcomp-sim usr/bin/cmmcomp-train usr/bin/cmmcomp-replay usr/bin/cmmcomp-vc \
+         usr/bin/cmmcomp-sim usr/bin/cmmcomp-train usr/bin/cmmcomp-measure usr/bin/cmmcomp-replay \
+         usr/bin/cmmcomp-vc \
          usr/bin/cmmcomp-agent usr/lib/systemd/system/cmmcomp-agent.service \
          etc/cmmcomp/agent.toml; do
   [ -e "$root/$f" ] || fail "missing /$f"
@@ -59,6 +60,9 @@ out=$("$root/usr/bin/cmmcomp-sim" move --json) || fail "cmmcomp-sim move"
 grep -q '"rae_um"' <<< "$out" || fail "cmmcomp-sim move: $out"
 "$root/usr/bin/cmmcomp-train" export "$root/usr/share/cmmcomp/models/default.json" \
   --header "$work/model.hpp" > /dev/null || fail "cmmcomp-train export"
+"$root/usr/bin/cmmcomp-measure" plan --repeats 1 -o "$work/plan" > /dev/null \
+  || fail "cmmcomp-measure plan"
+grep -q ' PtMeas(' "$work/plan/plan.ipp" || fail "cmmcomp-measure plan: no I++ program"
 "$root/usr/bin/cmmcomp-replay" --help > /dev/null || fail "cmmcomp-replay --help"
 "$root/usr/bin/cmmcomp-vc" --help > /dev/null || fail "cmmcomp-vc --help"
 
