@@ -59,10 +59,13 @@ double crossing(const std::vector<double>& t, const std::vector<double>& s, doub
   return std::nan("");
 }
 
-/// The commanded time at which the profile reaches `level` [mm] (bisection on the monotone
-/// positioning phase).
-double profile_time_at(const motion::MoveProfile& p, double level_mm) {
-  double lo = 0.0, hi = p.instants().positioning_end;
+/// The commanded time at which the profile reaches `level` [mm], by bisection in [lo, hi]
+/// (the positioning by default), where the position is monotone.
+double profile_time_at(const motion::MoveProfile& p,
+                       double level_mm,
+                       double lo = 0.0,
+                       double hi = -1.0) {
+  if (hi < 0) hi = p.instants().positioning_end;
   for (int i = 0; i < 200; ++i) {
     const double mid = 0.5 * (lo + hi);
     (p.sample(mid).position * 1e3 < level_mm ? lo : hi) = mid;
@@ -259,6 +262,10 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
     }
     w.planned = it->second;
     out.row = w.planned->settings;
+    if (!rec.problem.empty()) {
+      out.reason = rec.problem;
+      continue;
+    }
     if (rec.scale_t_s.size() < 2 || rec.tip_t_s.size() < 2) {
       out.reason = "a stream is missing or has fewer than two samples";
       continue;
@@ -430,6 +437,195 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
     out.ok = true;
   }
   return ex;
+}
+
+SessionRecording read_session_recording(const std::string& controller_path,
+                                        const std::string& tracker_path,
+                                        char axis) {
+  const MoveRecording r = read_move_recording(controller_path, tracker_path, axis, 0);
+  SessionRecording s;
+  s.source = r.source;
+  s.scale_t_s = r.scale_t_s;
+  s.scale_mm = r.scale_mm;
+  s.tip_t_s = r.tip_t_s;
+  s.tip_mm = r.tip_mm;
+  s.one_clock = r.one_clock;
+  return s;
+}
+
+namespace {
+
+/// The speeds of (t, x) on the grid t0 + k·dt, k < n (finite differences of the interpolated
+/// positions).
+std::vector<double> speeds_on_grid(const std::vector<double>& t,
+                                   const std::vector<double>& x,
+                                   double t0,
+                                   double dt,
+                                   std::size_t n) {
+  std::vector<double> v(n, 0.0);
+  double previous = interpolate(t, x, t0);
+  for (std::size_t k = 1; k < n; ++k) {
+    const double now = interpolate(t, x, t0 + static_cast<double>(k) * dt);
+    v[k] = (now - previous) / dt;
+    previous = now;
+  }
+  return v;
+}
+
+/// The lag L (tracker → controller) in [lo, hi] that maximises Σ v_scale(t) · v_tip(t − L),
+/// searched on the grid step `dt`.
+double best_lag(const SessionRecording& s, double lo, double hi, double dt) {
+  const double t0 = s.scale_t_s.front();
+  const auto n = static_cast<std::size_t>((s.scale_t_s.back() - t0) / dt);
+  if (n < 4) return 0.0;
+  const std::vector<double> vs = speeds_on_grid(s.scale_t_s, s.scale_mm, t0, dt, n);
+  double best = lo, best_score = -1.0;
+  for (double lag = lo; lag <= hi; lag += dt) {
+    const std::vector<double> vt = speeds_on_grid(s.tip_t_s, s.tip_mm, t0 - lag, dt, n);
+    double score = 0;
+    for (std::size_t k = 0; k < n; ++k) score += vs[k] * vt[k];
+    if (score > best_score) {
+      best_score = score;
+      best = lag;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+SessionSplit split_session(const std::vector<PlannedMove>& plan,
+                           const SessionRecording& session,
+                           const ExtractOptions& o) {
+  SessionSplit out;
+  if (session.scale_t_s.size() < 2 || session.tip_t_s.size() < 2) {
+    throw ConfigError(session.source + ": a session needs both streams");
+  }
+  if (!session.one_clock) {
+    if (o.known_clock) {
+      out.coarse_offset_s = o.clock_offset_s;
+    } else {
+      // Coarse on a 10 ms grid over ±5 s, then 1 ms around it.
+      const double coarse = best_lag(session, -5.0, 5.0, 0.01);
+      out.coarse_offset_s = best_lag(session, coarse - 0.02, coarse + 0.02, 0.001);
+    }
+  }
+  const std::vector<double>& t = session.scale_t_s;
+  const std::vector<double>& x = session.scale_mm;
+  std::size_t cursor = 0;
+  for (const PlannedMove& m : plan) {
+    MoveRecording rec;
+    rec.move_id = m.move_id;
+    rec.one_clock = session.one_clock;
+    rec.source = session.source;
+    const double start = axis_value(m.start, m.axis);
+    const double d = m.direction;
+    const double tol = std::max(0.2, 0.01 * m.settings.pd_mm);
+    motion::ProbingMove move = dynamics::move_of(m.settings);
+    move.dwell = o.dwell_s;
+    move.smoothing = o.smoothing_s;
+    motion::MoveProfile profile;
+    if (motion::MoveProfile::plan(move, profile) != Status::kOk) {
+      rec.problem = "the planned move is not a valid profile";
+      out.moves.push_back(rec);
+      continue;
+    }
+    // At rest at the start (within tol for 20 ms), then half of PD towards the point.
+    std::size_t i = cursor, found = t.size();
+    while (i < t.size()) {
+      if (std::fabs(x[i] - start) > tol) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i;
+      while (j < t.size() && std::fabs(x[j] - start) <= tol) ++j;
+      if (j < t.size() && t[j - 1] - t[i] >= 0.02 && (x[j] - start) * d > 0) {
+        std::size_t k = j;
+        while (k < t.size() && (x[k] - start) * d < 0.5 * m.settings.pd_mm &&
+               (x[k] - start) * d > -tol) {
+          ++k;
+        }
+        if (k < t.size() && (x[k] - start) * d >= 0.5 * m.settings.pd_mm) {
+          // It must be this move: the scale comes to rest at the pre-hit point (PD from the
+          // start) in about the planned positioning time, not at another move's.
+          const double prehit = start + d * m.settings.pd_mm;
+          std::size_t e = k;
+          while (e < t.size() && std::fabs(x[e] - prehit) > tol && (x[e] - start) * d > -tol &&
+                 t[e] - t[j - 1] < 3.0 * profile.instants().positioning_end + 1.0) {
+            ++e;
+          }
+          // The time from a quarter to three quarters of PD, against the profile's: servo lag
+          // and the tolerance windows shift both ends alike.
+          bool timing = false;
+          if (e < t.size() && std::fabs(x[e] - prehit) <= tol) {
+            const auto crossing_at = [&](double level, std::size_t from, std::size_t until) {
+              for (std::size_t q = std::max<std::size_t>(from, 1); q <= until && q < t.size();
+                   ++q) {
+                const double a = (x[q - 1] - start) * d, b = (x[q] - start) * d;
+                if (a < level && b >= level) {
+                  return t[q - 1] + (level - a) / (b - a) * (t[q] - t[q - 1]);
+                }
+              }
+              return std::nan("");
+            };
+            const double pd = m.settings.pd_mm, ad = m.settings.ad_mm;
+            const motion::PhaseInstants& pi = profile.instants();
+            const double took = crossing_at(0.75 * pd, j, e) - crossing_at(0.25 * pd, j, e);
+            const double planned =
+                profile_time_at(profile, 0.75 * pd) - profile_time_at(profile, 0.25 * pd);
+            // And the approach: from a quarter to three quarters of AD after the pre-hit point.
+            std::size_t until = e;
+            while (until + 1 < t.size() && t[until] - t[e] < pi.touch - pi.positioning_end + 1.0) {
+              ++until;
+            }
+            const double took_approach =
+                crossing_at(pd + 0.75 * ad, e, until) - crossing_at(pd + 0.25 * ad, e, until);
+            const double planned_approach =
+                profile_time_at(profile, pd + 0.75 * ad, pi.approach_start, pi.touch) -
+                profile_time_at(profile, pd + 0.25 * ad, pi.approach_start, pi.touch);
+            timing = std::fabs(took - planned) <= 0.1 * planned + 0.02 &&
+                     std::fabs(took_approach - planned_approach) <= 0.1 * planned_approach + 0.02;
+          }
+          if (timing) {
+            found = j;
+            break;
+          }
+        }
+      }
+      i = j;
+    }
+    if (found == t.size()) {
+      rec.problem = fmt::format(
+          "not found in the session's scale log after {:.3f} s (at rest at {} = {} mm, then {} "
+          "mm towards the point)",
+          cursor < t.size() ? t[cursor] : t.back(),
+          m.axis,
+          start,
+          m.settings.pd_mm);
+      out.moves.push_back(rec);
+      continue;
+    }
+    // The rest before the move: back to where the scale came within tol of the start.
+    std::size_t rest = found;
+    while (rest > cursor && std::fabs(x[rest - 1] - start) <= tol) --rest;
+    const double moves_at = t[found - 1];
+    const double from = std::max(t[rest], moves_at - 0.25);
+    const double to = moves_at + profile.instants().touch + 0.05;
+    for (std::size_t k = rest; k < t.size() && t[k] <= to; ++k) {
+      if (t[k] < from) continue;
+      rec.scale_t_s.push_back(t[k]);
+      rec.scale_mm.push_back(x[k]);
+      cursor = k;
+    }
+    for (std::size_t k = 0; k < session.tip_t_s.size(); ++k) {
+      const double tc = session.tip_t_s[k] + out.coarse_offset_s;
+      if (tc < from || tc > to) continue;
+      rec.tip_t_s.push_back(session.tip_t_s[k]);
+      rec.tip_mm.push_back(session.tip_mm[k]);
+    }
+    out.moves.push_back(rec);
+  }
+  return out;
 }
 
 std::string format_extraction_report(const Extraction& ex) {

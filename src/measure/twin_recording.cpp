@@ -182,14 +182,41 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
   return out;
 }
 
-void write_move_recording(const std::string& dir, const MoveRecording& r, char axis) {
+SessionRecording as_session(const std::vector<TwinMove>& moves) {
+  SessionRecording s;
+  s.source = "twin session";
+  for (const TwinMove& m : moves) {
+    const MoveRecording& r = m.recording;
+    s.one_clock = r.one_clock;
+    for (std::size_t i = 0; i < r.scale_t_s.size(); ++i) {
+      if (!s.scale_t_s.empty() && !(r.scale_t_s[i] > s.scale_t_s.back())) continue;
+      s.scale_t_s.push_back(r.scale_t_s[i]);
+      s.scale_mm.push_back(r.scale_mm[i]);
+    }
+    for (std::size_t i = 0; i < r.tip_t_s.size(); ++i) {
+      if (!s.tip_t_s.empty() && !(r.tip_t_s[i] > s.tip_t_s.back())) continue;
+      s.tip_t_s.push_back(r.tip_t_s[i]);
+      s.tip_mm.push_back(r.tip_mm[i]);
+    }
+  }
+  return s;
+}
+
+namespace {
+
+/// Writes `r` to `one` (one clock) or to `controller` and `tracker`.
+void write_streams(const MoveRecording& r,
+                   char axis,
+                   const std::string& one,
+                   const std::string& controller,
+                   const std::string& tracker) {
   const std::string a(1, axis);
   if (r.one_clock) {
     std::string s = "t_s," + a + "_scale_mm," + a + "_tip_mm\n";
     for (std::size_t i = 0; i < r.scale_t_s.size(); ++i) {
       s += fmt::format("{:.7f},{:.7f},{:.7f}\n", r.scale_t_s[i], r.scale_mm[i], r.tip_mm[i]);
     }
-    io::write_file_atomically(dir + "/" + one_clock_file(r.move_id), s);
+    io::write_file_atomically(one, s);
     return;
   }
   std::string c = "t_s," + a + "_scale_mm\n";
@@ -200,8 +227,32 @@ void write_move_recording(const std::string& dir, const MoveRecording& r, char a
   for (std::size_t i = 0; i < r.tip_t_s.size(); ++i) {
     t += fmt::format("{:.7f},{:.7f}\n", r.tip_t_s[i], r.tip_mm[i]);
   }
-  io::write_file_atomically(dir + "/" + controller_file(r.move_id), c);
-  io::write_file_atomically(dir + "/" + tracker_file(r.move_id), t);
+  io::write_file_atomically(controller, c);
+  io::write_file_atomically(tracker, t);
+}
+
+}  // namespace
+
+void write_move_recording(const std::string& dir, const MoveRecording& r, char axis) {
+  write_streams(r,
+                axis,
+                dir + "/" + one_clock_file(r.move_id),
+                dir + "/" + controller_file(r.move_id),
+                dir + "/" + tracker_file(r.move_id));
+}
+
+void write_session_recording(const std::string& dir, const SessionRecording& session, char axis) {
+  MoveRecording r;
+  r.scale_t_s = session.scale_t_s;
+  r.scale_mm = session.scale_mm;
+  r.tip_t_s = session.tip_t_s;
+  r.tip_mm = session.tip_mm;
+  r.one_clock = session.one_clock;
+  write_streams(r,
+                axis,
+                dir + "/" + kSessionFile,
+                dir + "/" + kSessionControllerFile,
+                dir + "/" + kSessionTrackerFile);
 }
 
 }  // namespace cmmcomp::measure

@@ -86,21 +86,41 @@ int run_extract(ExtractCommand cmd) {
   cmd.options.clock_drift = cmd.drift_ppm * 1e-6;
   const std::vector<measure::PlannedMove> plan = measure::read_plan_csv(cmd.plan);
   std::vector<measure::MoveRecording> recordings;
-  std::vector<int> missing;
-  for (const measure::PlannedMove& m : plan) {
-    const std::string one = cmd.recordings + "/" + measure::one_clock_file(m.move_id);
-    const std::string ctl = cmd.recordings + "/" + measure::controller_file(m.move_id);
-    const std::string trk = cmd.recordings + "/" + measure::tracker_file(m.move_id);
-    if (std::filesystem::exists(one)) {
-      recordings.push_back(measure::read_move_recording(one, "", m.axis, m.move_id));
-    } else if (std::filesystem::exists(ctl) && std::filesystem::exists(trk)) {
-      recordings.push_back(measure::read_move_recording(ctl, trk, m.axis, m.move_id));
-    } else {
-      measure::MoveRecording empty;  // reported as skipped: a stream is missing
-      empty.move_id = m.move_id;
-      empty.one_clock = !std::filesystem::exists(ctl) && !std::filesystem::exists(trk);
-      recordings.push_back(empty);
-      missing.push_back(m.move_id);
+  const std::string dir = cmd.recordings + "/";
+  const bool session_one = std::filesystem::exists(dir + measure::kSessionFile);
+  const bool session_two = std::filesystem::exists(dir + measure::kSessionControllerFile);
+  if (session_one || session_two) {
+    // One continuous recording of the whole plan: the moves are found in it in run order.
+    const measure::SessionRecording session = measure::read_session_recording(
+        dir + (session_one ? measure::kSessionFile : measure::kSessionControllerFile),
+        session_one ? "" : dir + measure::kSessionTrackerFile,
+        plan.front().axis);
+    const measure::SessionSplit split = measure::split_session(plan, session, cmd.options);
+    recordings = split.moves;
+    int found = 0;
+    for (const measure::MoveRecording& r : recordings) found += r.problem.empty();
+    std::printf(
+        "session %s: %d of %zu planned moves found", session.source.c_str(), found, plan.size());
+    if (!session.one_clock)
+      std::printf(", tracker offset %.1f ms from the speeds", split.coarse_offset_s * 1e3);
+    std::printf("\n");
+  } else {
+    for (const measure::PlannedMove& m : plan) {
+      const std::string one = dir + measure::one_clock_file(m.move_id);
+      const std::string ctl = dir + measure::controller_file(m.move_id);
+      const std::string trk = dir + measure::tracker_file(m.move_id);
+      if (std::filesystem::exists(one)) {
+        recordings.push_back(measure::read_move_recording(one, "", m.axis, m.move_id));
+      } else if (std::filesystem::exists(ctl) && std::filesystem::exists(trk)) {
+        recordings.push_back(measure::read_move_recording(ctl, trk, m.axis, m.move_id));
+      } else {
+        measure::MoveRecording empty;
+        empty.move_id = m.move_id;
+        empty.problem = "a stream is missing: no " + measure::one_clock_file(m.move_id) +
+                        ", or not both " + measure::controller_file(m.move_id) + " and " +
+                        measure::tracker_file(m.move_id);
+        recordings.push_back(empty);
+      }
     }
   }
   const measure::Extraction ex = measure::extract_moves(plan, recordings, cmd.options);

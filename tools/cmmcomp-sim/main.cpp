@@ -180,6 +180,7 @@ struct RecordCommand {
   std::string plan, machine_path, out;
   cmmcomp::measure::RecordingSetup setup;
   double drift_ppm = 0, offset_ms = 0;
+  bool session = false;
 };
 
 /// A measurement campaign on the twin: every move of plan.csv, recorded as a real set-up would.
@@ -192,8 +193,11 @@ int run_record(RecordCommand cmd) {
       measure::record_on_twin(machine_from(cmd.machine_path), plan, cmd.setup);
   std::filesystem::create_directories(cmd.out);
   std::string exact = "move_id,mpe_um,rpe_um,mae_um,rae_um\n";
+  if (cmd.session) {
+    measure::write_session_recording(cmd.out, measure::as_session(moves), plan.front().axis);
+  }
   for (std::size_t i = 0; i < moves.size(); ++i) {
-    measure::write_move_recording(cmd.out, moves[i].recording, plan[i].axis);
+    if (!cmd.session) measure::write_move_recording(cmd.out, moves[i].recording, plan[i].axis);
     const auto& e = moves[i].exact_um;
     exact += fmt::format(
         "{},{:.6f},{:.6f},{:.6f},{:.6f}\n", plan[i].move_id, e.mpe, e.rpe, e.mae, e.rae);
@@ -509,6 +513,9 @@ int main(int argc, char** argv) {
   record->add_option("--dropouts", rec.setup.dropout_fraction, "share of tracker samples lost")
       ->capture_default_str();
   record->add_option("--seed", rec.setup.seed, "noise seed")->capture_default_str();
+  record->add_flag("--session",
+                   rec.session,
+                   "one continuous recording of the whole plan (session*.csv), not one per move");
 
   CLI::App* anova = app.add_subcommand("anova", "Table 4 ANOVA of a dataset CSV");
   anova->add_option("data", anova_path, "dataset CSV")->required();

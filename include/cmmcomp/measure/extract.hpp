@@ -25,6 +25,7 @@ struct MoveRecording {
   std::vector<double> scale_t_s, scale_mm;  ///< controller clock, axis scale reading
   std::vector<double> tip_t_s, tip_mm;  ///< tracker clock (or the controller's), tip on the axis
   bool one_clock = true;
+  std::string problem;  ///< why there is no usable recording (set by split_session); skips it
 };
 
 /// Reads `t_s, x_scale_mm, x_tip_mm` (one clock; the axis letter may be y or z), or, with
@@ -85,6 +86,34 @@ struct Extraction {
 Extraction extract_moves(const std::vector<PlannedMove>& plan,
                          const std::vector<MoveRecording>& recordings,
                          const ExtractOptions& options);
+
+/// One continuous recording of a whole session: the scale log, and the tracker's (on its own
+/// clock, or the same samples with one clock).
+struct SessionRecording {
+  std::string source;
+  std::vector<double> scale_t_s, scale_mm;
+  std::vector<double> tip_t_s, tip_mm;
+  bool one_clock = true;
+};
+
+/// Reads a session: `session.csv` with `t_s, x_scale_mm, x_tip_mm`, or, with `tracker_path`,
+/// the controller's `t_s, x_scale_mm` and the tracker's `t_s, x_tip_mm`.
+SessionRecording read_session_recording(const std::string& controller_path,
+                                        const std::string& tracker_path,
+                                        char axis);
+
+/// The session cut into the planned moves (docs/measurement.md, "Session recordings"): the
+/// tracker's coarse clock offset from the cross-correlation of the two streams' speeds; then,
+/// in run order, each move found by motion detection in the scale log, at rest at its start
+/// and then moving PD/2 towards the point, and cut from 0.25 s before it moves (or its rest's
+/// start) to 50 ms after its planned touch. A move not found gets a `problem` (and is skipped).
+struct SessionSplit {
+  std::vector<MoveRecording> moves;  ///< one per planned move, in plan order
+  double coarse_offset_s = 0;        ///< tracker → controller, from the speeds
+};
+SessionSplit split_session(const std::vector<PlannedMove>& plan,
+                           const SessionRecording& session,
+                           const ExtractOptions& options);
 
 /// The per-move report as CSV: move_id, status, reason and the figures above.
 std::string format_extraction_report(const Extraction& extraction);

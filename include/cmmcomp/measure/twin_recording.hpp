@@ -46,6 +46,14 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
 /// and move-NNNN.tracker.csv (docs/measurement.md, "Recordings").
 void write_move_recording(const std::string& dir, const MoveRecording& recording, char axis);
 
+/// The moves' recordings as one session (they are consecutive on the session clock), and its
+/// files: session.csv (one clock) or session.controller.csv and session.tracker.csv.
+SessionRecording as_session(const std::vector<TwinMove>& moves);
+void write_session_recording(const std::string& dir, const SessionRecording& session, char axis);
+inline constexpr const char* kSessionFile = "session.csv";
+inline constexpr const char* kSessionControllerFile = "session.controller.csv";
+inline constexpr const char* kSessionTrackerFile = "session.tracker.csv";
+
 /// The file names write_move_recording uses for `move_id`.
 std::string one_clock_file(int move_id);
 std::string controller_file(int move_id);
