@@ -19,8 +19,6 @@ namespace {
 
 constexpr std::uintmax_t kMaxRecordingBytes = 512u << 20;
 
-double axis_value(const Vec3& p, char axis) { return axis == 'x' ? p.x : axis == 'y' ? p.y : p.z; }
-
 /// Reads the columns `names` of a recording; times strictly increasing.
 std::vector<std::vector<double>> read_columns(const std::string& path,
                                               const std::vector<std::string>& names) {

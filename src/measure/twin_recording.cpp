@@ -14,8 +14,6 @@
 namespace cmmcomp::measure {
 namespace {
 
-double axis_value(const Vec3& p, char axis) { return axis == 'x' ? p.x : axis == 'y' ? p.y : p.z; }
-
 /// Linear interpolation in the twin's trace (sampled at 20 kHz plus its kinks and extrema, so
 /// the interpolation error is ~1e-5 of the signal). Before the move: at rest at 0.
 struct Trace {

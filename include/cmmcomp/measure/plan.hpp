@@ -23,6 +23,11 @@ struct Vec3 {
   double x = 0, y = 0, z = 0;
 };
 
+/// The coordinate of `p` along machine axis `axis` ('x', 'y' or 'z').
+inline double axis_value(const Vec3& p, char axis) {
+  return axis == 'x' ? p.x : axis == 'y' ? p.y : p.z;
+}
+
 /// How to plan an experiment.
 struct PlanOptions {
   std::string design = "l18";                   ///< l18 | l9 | l27 | full | lhs
