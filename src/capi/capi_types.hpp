@@ -49,7 +49,8 @@ inline void write_correction(const compensation::Correction& r, cmmcomp_correcti
   out.mae_um = r.mae_um;
   out.rae_um = r.rae_um;
   for (std::size_t k = 0; k < 3; ++k) out.correction_um[k] = r.correction_um[k];
-  out.flags = r.flags;
+  // cmmcomp_correction predates the interval: its callers see the version-1 flags only.
+  out.flags = r.flags & compensation::kFlagsVersion1;
   out.sequence = r.sequence;
   out.model_id = r.model_id;
 }

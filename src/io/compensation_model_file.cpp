@@ -101,7 +101,9 @@ Status publish(compensation::MoveCompensator& compensator,
                std::string* why) {
   const std::uint64_t id = numeric_model_id(file);
   return std::visit(
-      [&](const auto& f) { return compensator.publish(axis, f.compensation_model(), id, why); },
+      [&](const auto& f) {
+        return compensator.publish(axis, f.compensation_model(), f.interval, id, why);
+      },
       file);
 }
 

@@ -145,6 +145,34 @@ void check_content(const detail::ModelData& d, const std::string& where) {
          "' is not ISO-8601 UTC (YYYY-MM-DDTHH:MM:SSZ, optional fraction of a second)");
   }
   if (t.tool_version.empty()) fail("training.tool_version is empty");
+  if (d.interval_coverage == 0) {
+    if (!d.interval_half_width.empty() || !d.interval_gain.empty()) {
+      fail("uncertainty values without a coverage");
+    }
+    return;
+  }
+  if (!(d.interval_coverage > 0 && d.interval_coverage < 1)) {
+    fail(fmt::format("uncertainty.coverage = {} must be in (0, 1)", d.interval_coverage));
+  }
+  if (d.interval_half_width.size() != static_cast<std::size_t>(d.outputs) ||
+      d.interval_gain.size() != static_cast<std::size_t>(d.outputs)) {
+    fail(fmt::format(
+        "uncertainty: expected one half_width and one extrapolation_gain per output ({})",
+        d.outputs));
+  }
+  for (std::size_t o = 0; o < d.interval_half_width.size(); ++o) {
+    const double h = d.interval_half_width[o];
+    const double g = d.interval_gain[o];
+    if (!std::isfinite(h) || h < 0) {
+      fail(fmt::format("uncertainty.half_width[{}] = {} must be finite and >= 0", o, h));
+    }
+    if (!std::isfinite(g) || g < 0) {
+      fail(fmt::format("uncertainty.extrapolation_gain[{}] = {} must be finite and >= 0", o, g));
+    }
+  }
+  if (d.interval_method.empty()) fail("uncertainty.method is empty");
+  if (has_control_char(d.interval_method)) fail("uncertainty.method contains a control character");
+  if (d.interval_samples == 0) fail("uncertainty.calibration_samples must be > 0");
 }
 
 void check_sizes(const detail::ModelData& d) {
@@ -228,6 +256,17 @@ J to_json(const detail::ModelData& d) {
   training["seed"] = d.training.seed;
   training["tool_version"] = d.training.tool_version;
   doc["training"] = std::move(training);
+  if (d.interval_coverage > 0) {
+    J u;
+    u["coverage"] = d.interval_coverage;
+    u["half_width"] = d.interval_half_width;
+    u["extrapolation_gain"] = d.interval_gain;
+    u["method"] = d.interval_method;
+    u["calibration_samples"] = d.interval_samples;
+    doc["uncertainty"] = std::move(u);
+  } else {
+    doc["uncertainty"] = nullptr;
+  }
   return doc;
 }
 
@@ -415,21 +454,32 @@ Json parse_document(const std::string& text, const std::string& source) {
   return doc;
 }
 
+/// The file's format_version (kModelFileVersion or kModelFileVersionNoUncertainty).
+int read_version(const Json& doc, const Reader& r) {
+  const auto version = doc.find("format_version");
+  if (version == doc.end()) {
+    r.fail(fmt::format("missing key 'format_version' (this library reads versions {} and {})",
+                       kModelFileVersionNoUncertainty,
+                       kModelFileVersion));
+  }
+  const bool known =
+      version->is_number_integer() && (version->get<long long>() == kModelFileVersion ||
+                                       version->get<long long>() == kModelFileVersionNoUncertainty);
+  if (!known) {
+    r.fail(fmt::format("format_version {} is not supported (this library reads versions {} and {})",
+                       version->dump(),
+                       kModelFileVersionNoUncertainty,
+                       kModelFileVersion));
+  }
+  return static_cast<int>(version->get<long long>());
+}
+
 ModelArchitecture read_header(const Json& doc, const Reader& r) {
   const std::string format = r.string(doc, "", "format");
   if (format != kModelFileFormat) {
     r.fail("format is '" + format + "', expected '" + kModelFileFormat + "'");
   }
-  const auto version = doc.find("format_version");
-  if (version == doc.end()) {
-    r.fail(fmt::format("missing key 'format_version' (this library reads version {})",
-                       kModelFileVersion));
-  }
-  if (!version->is_number_integer() || version->get<long long>() != kModelFileVersion) {
-    r.fail(fmt::format("format_version {} is not supported (this library reads version {})",
-                       version->dump(),
-                       kModelFileVersion));
-  }
+  read_version(doc, r);
   const Json& arch = r.object(doc, "", "architecture");
   r.only_keys(arch,
               "architecture",
@@ -585,16 +635,32 @@ ModelData parse_model_json(const std::string& text,
                            const ModelArchitecture& expected) {
   const Json doc = parse_document(text, source);
   const Reader r(source);
-  r.only_keys(doc,
-              "",
-              {"format",
-               "format_version",
-               "architecture",
-               "inputs",
-               "outputs",
-               "parameters",
-               "training",
-               "checksum"});
+  const int version = read_version(doc, r);
+  if (version == kModelFileVersionNoUncertainty) {
+    r.only_keys(doc,
+                "",
+                {"format",
+                 "format_version",
+                 "architecture",
+                 "inputs",
+                 "outputs",
+                 "parameters",
+                 "training",
+                 "checksum"});
+  } else {
+    r.only_keys(doc,
+                "",
+                {"format",
+                 "format_version",
+                 "architecture",
+                 "inputs",
+                 "outputs",
+                 "parameters",
+                 "training",
+                 "uncertainty",
+                 "checksum"});
+    r.key(doc, "", "uncertainty");  // required in version 2 (null: no calibration)
+  }
   const ModelArchitecture a = read_header(doc, r);
   if (a.inputs != expected.inputs || a.sets_per_input != expected.sets_per_input ||
       a.outputs != expected.outputs) {
@@ -687,6 +753,28 @@ ModelData parse_model_json(const std::string& text,
   t.trained_at = r.string(training, "training", "trained_at");
   t.seed = r.unsigned_integer(training, "training", "seed");
   t.tool_version = r.string(training, "training", "tool_version");
+
+  d.format_version = version;
+  const auto uncertainty = doc.find("uncertainty");
+  if (uncertainty != doc.end() && !uncertainty->is_null()) {
+    const Json& u = r.object(doc, "", "uncertainty");
+    r.only_keys(u,
+                "uncertainty",
+                {"coverage", "half_width", "extrapolation_gain", "method", "calibration_samples"});
+    d.interval_coverage = r.number(r.key(u, "uncertainty", "coverage"), "uncertainty.coverage");
+    if (d.interval_coverage == 0)
+      r.fail("uncertainty.coverage = 0 (write null for no calibration)");
+    const Json& hw = r.array(u, "uncertainty", "half_width", n_out);
+    const Json& gain = r.array(u, "uncertainty", "extrapolation_gain", n_out);
+    for (std::size_t o = 0; o < n_out; ++o) {
+      d.interval_half_width.push_back(
+          r.number(hw[o], "uncertainty.half_width" + idx(static_cast<int>(o))));
+      d.interval_gain.push_back(
+          r.number(gain[o], "uncertainty.extrapolation_gain" + idx(static_cast<int>(o))));
+    }
+    d.interval_method = r.string(u, "uncertainty", "method");
+    d.interval_samples = r.unsigned_integer(u, "uncertainty", "calibration_samples");
+  }
 
   check_content(d, source);
 

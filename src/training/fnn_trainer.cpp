@@ -110,6 +110,23 @@ MatrixXd global_linear_fit(const MatrixXd& u, const MatrixXd& z) {
 
 using detail::ProgressCallback;
 
+/// The rows `index` of `m`, in that order.
+MatrixXd rows(const MatrixXd& m, const std::vector<Index>& index) {
+  MatrixXd out(static_cast<Index>(index.size()), m.cols());
+  for (std::size_t r = 0; r < index.size(); ++r) out.row(static_cast<Index>(r)) = m.row(index[r]);
+  return out;
+}
+
+/// The split-conformal quantile of `scores` at coverage `c`: the ⌈(n + 1)c⌉-th smallest (the
+/// largest when that exceeds n: too few samples for the coverage, which then is not guaranteed).
+double conformal_quantile(std::vector<double> scores, double c) {
+  if (scores.empty()) return 0.0;
+  std::sort(scores.begin(), scores.end());
+  const double n = static_cast<double>(scores.size());
+  const auto rank = static_cast<std::size_t>(std::ceil((n + 1.0) * c));
+  return scores[std::min(std::max<std::size_t>(rank, 1), scores.size()) - 1];
+}
+
 /// Everything one training run works on.
 template <int kInputs, int kSets, int kOutputs>
 class Trainer {
@@ -185,6 +202,7 @@ class Trainer {
       s.message += " (parameters not usable: returned the ridge initialisation)";
     }
     s.train_rmse = train_rmse(result.model);
+    calibrate_interval(phi, u, s.lambda, result.interval, s);
     s.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
@@ -321,25 +339,9 @@ class Trainer {
       std::vector<Index> train, test;
       for (std::size_t k = 0; k < n; ++k)
         (fold_of[k] == f ? test : train).push_back(static_cast<Index>(k));
-      MatrixXd phi_tr(static_cast<Index>(train.size()), phi.cols());
-      MatrixXd z_tr(static_cast<Index>(train.size()), kOutputs);
-      for (std::size_t r = 0; r < train.size(); ++r) {
-        phi_tr.row(static_cast<Index>(r)) = phi.row(train[r]);
-        z_tr.row(static_cast<Index>(r)) = z_.row(train[r]);
-      }
-      MatrixXd phi_te(static_cast<Index>(test.size()), phi.cols());
-      MatrixXd z_te(static_cast<Index>(test.size()), kOutputs);
-      for (std::size_t r = 0; r < test.size(); ++r) {
-        phi_te.row(static_cast<Index>(r)) = phi.row(test[r]);
-        z_te.row(static_cast<Index>(r)) = z_.row(test[r]);
-      }
+      const MatrixXd phi_tr = rows(phi, train), z_tr = rows(z_, train), u_tr = rows(u, train);
+      const MatrixXd phi_te = rows(phi, test), z_te = rows(z_, test), u_te = rows(u, test);
       // The prior is refitted on the fold's training part too, so CV scores the whole fit.
-      MatrixXd u_tr(static_cast<Index>(train.size()), kTerms);
-      MatrixXd u_te(static_cast<Index>(test.size()), kTerms);
-      for (std::size_t r = 0; r < train.size(); ++r)
-        u_tr.row(static_cast<Index>(r)) = u.row(train[r]);
-      for (std::size_t r = 0; r < test.size(); ++r)
-        u_te.row(static_cast<Index>(r)) = u.row(test[r]);
       const MatrixXd prior = global_linear_fit(u_tr, z_tr);
       const RidgeDual ridge(phi_tr, z_tr - u_tr * prior);
       const MatrixXd cross = phi_te * phi_tr.transpose();
@@ -350,6 +352,116 @@ class Trainer {
       }
     }
     return sse;
+  }
+
+  /// Predictions [normalised] at the samples `test` of the ridge fit (prior refitted, premise
+  /// at the initialisation, weight λ) to the samples `train`: the fit CV scores.
+  MatrixXd ridge_predict(const MatrixXd& phi,
+                         const MatrixXd& u,
+                         const std::vector<Index>& train,
+                         const std::vector<Index>& test,
+                         double lambda) const {
+    const MatrixXd phi_tr = rows(phi, train), z_tr = rows(z_, train), u_tr = rows(u, train);
+    const MatrixXd prior = global_linear_fit(u_tr, z_tr);
+    const RidgeDual ridge(phi_tr, z_tr - u_tr * prior);
+    return rows(u, test) * prior + rows(phi, test) * phi_tr.transpose() * ridge.dual(lambda);
+  }
+
+  /// Step 7: the prediction interval's calibration (fuzzy/prediction_interval.hpp).
+  ///  - half-width: the split-conformal quantile of |out-of-fold residual| [raw units], the
+  ///    folds made of whole design points (every repeat of a move in the same fold), so that a
+  ///    residual is that of a move the fit has not seen, as in service;
+  ///  - extrapolation gain: for each input and each end, the samples in the outer third of its
+  ///    range are predicted by a fit to the rest; each needs gain (|r|/h − 1)/d to be covered
+  ///    (d its distance from the rest's box, in the rest's ranges); the gain is the coverage
+  ///    quantile of those needs over every such sample (0 if they are covered already).
+  /// The fits are the ridge initialisation at the chosen λ (milliseconds), not the LM
+  /// refinement: where LM is more accurate than its initialisation the interval is
+  /// conservative. The coverage ctest measures it (docs/uncertainty.md). A deletion residual
+  /// of the final model at its premise (e = (I − H_GG)⁻¹ r) was tried and was wider still: a
+  /// held-out design point of an orthogonal array is harder to predict than a random move.
+  void calibrate_interval(const MatrixXd& phi,
+                          const MatrixXd& u,
+                          double lambda,
+                          fuzzy::IntervalCalibration<kOutputs>& cal,
+                          TrainingSummary& s) const {
+    const double c = options_.interval_coverage;
+    if (c == 0.0) return;
+    const std::size_t n = x_.size();
+    // Design points: samples with identical inputs.
+    std::vector<std::size_t> group(n);
+    std::vector<std::size_t> first;  // a representative sample of each group
+    for (std::size_t k = 0; k < n; ++k) {
+      std::size_t g = 0;
+      while (g < first.size() && raw_inputs_[first[g]] != raw_inputs_[k]) ++g;
+      if (g == first.size()) first.push_back(k);
+      group[k] = g;
+    }
+    const std::size_t groups = first.size();
+    if (groups < 2) return;  // nothing to hold out: no calibration
+    const std::size_t folds = std::min(groups, static_cast<std::size_t>(options_.folds));
+    std::vector<std::size_t> order(groups);
+    for (std::size_t g = 0; g < groups; ++g) order[g] = g;
+    SplitMix64 rng{options_.seed ^ 0x9e3779b97f4a7c15ULL};
+    for (std::size_t g = groups; g > 1; --g) std::swap(order[g - 1], order[rng.below(g)]);
+    std::vector<std::size_t> fold_of_group(groups);
+    for (std::size_t g = 0; g < groups; ++g) fold_of_group[order[g]] = g % folds;
+
+    std::array<std::vector<double>, kOutputs> scores;
+    for (std::size_t f = 0; f < folds; ++f) {
+      std::vector<Index> train, test;
+      for (std::size_t k = 0; k < n; ++k) {
+        (fold_of_group[group[k]] == f ? test : train).push_back(static_cast<Index>(k));
+      }
+      const MatrixXd pred = ridge_predict(phi, u, train, test, lambda);
+      for (std::size_t r = 0; r < test.size(); ++r) {
+        for (int o = 0; o < kOutputs; ++o) {
+          const double e = (pred(static_cast<Index>(r), o) - z_(test[r], o)) * scale_[sz(o)];
+          scores[sz(o)].push_back(std::abs(e));
+        }
+      }
+    }
+    for (int o = 0; o < kOutputs; ++o) {
+      cal.half_width[sz(o)] = conformal_quantile(scores[sz(o)], c);
+    }
+
+    std::array<std::vector<double>, kOutputs> needs;
+    for (int i = 0; i < kInputs; ++i) {
+      for (const bool low : {true, false}) {
+        std::vector<Index> train, test;
+        for (std::size_t k = 0; k < n; ++k) {
+          const double v = x_[k][sz(i)];
+          const bool outer = low ? v < 1.0 / 3.0 : v > 2.0 / 3.0;
+          (outer ? test : train).push_back(static_cast<Index>(k));
+        }
+        if (test.empty() || train.size() < static_cast<std::size_t>(kTerms)) continue;
+        std::array<fuzzy::InputRange, kInputs> box;
+        for (int j = 0; j < kInputs; ++j) {
+          double lo = x_[sz(train[0])][sz(j)], hi = lo;
+          for (const Index k : train) {
+            lo = std::min(lo, x_[sz(k)][sz(j)]);
+            hi = std::max(hi, x_[sz(k)][sz(j)]);
+          }
+          box[sz(j)] = fuzzy::InputRange{lo, hi > lo ? hi : lo + 1.0};
+        }
+        const MatrixXd pred = ridge_predict(phi, u, train, test, lambda);
+        for (std::size_t r = 0; r < test.size(); ++r) {
+          const double d = fuzzy::domain_distance(box, x_[sz(test[r])]);
+          if (!(d > 0.0)) continue;
+          for (int o = 0; o < kOutputs; ++o) {
+            const double h = cal.half_width[sz(o)];
+            const double e =
+                std::abs(pred(static_cast<Index>(r), o) - z_(test[r], o)) * scale_[sz(o)];
+            needs[sz(o)].push_back(h > 0.0 ? std::max(0.0, (e / h - 1.0) / d) : 0.0);
+          }
+        }
+      }
+    }
+    for (int o = 0; o < kOutputs; ++o) {
+      cal.extrapolation_gain[sz(o)] = conformal_quantile(needs[sz(o)], c);
+    }
+    cal.coverage = c;
+    s.interval_samples = n;
   }
 
   /// The model in raw units from normalised-unit parameters.
@@ -586,6 +698,9 @@ bool FnnTrainingOptions::is_valid(std::string* why) const {
   }
   if (epochs < 0) return fail("epochs must be >= 0");
   if (!(goal >= 0.0) || !std::isfinite(goal)) return fail("goal must be >= 0 and finite");
+  if (!(interval_coverage == 0.0 || (interval_coverage > 0.0 && interval_coverage < 1.0))) {
+    return fail("interval_coverage must be 0 (no interval) or in (0, 1)");
+  }
   return true;
 }
 

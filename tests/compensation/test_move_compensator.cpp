@@ -96,7 +96,9 @@ TEST(MoveCompensator, ComputesHandBuiltModel) {
   EXPECT_NEAR(out.correction_um[0], 3.5, 1e-12);
   EXPECT_EQ(out.correction_um[1], 0.0);
   EXPECT_EQ(out.correction_um[2], 0.0);
-  EXPECT_EQ(out.flags, kFlagOk);
+  // A model built in code has no interval calibration: flagged, and U95 reads 0 ("unknown").
+  EXPECT_EQ(out.flags, kFlagOk | kFlagNoUncertainty);
+  for (const double u : out.u95_um) EXPECT_EQ(u, 0.0);
   EXPECT_EQ(out.sequence, 7u);
   EXPECT_EQ(out.model_id, 0xabcu);
 }
@@ -121,7 +123,7 @@ TEST(MoveCompensator, FiveInputModelReadsTheCarriagePosition) {
   m.y_mm = 900.0;  // outside [0, 500]: clamped and flagged, as any input
   ASSERT_EQ(comp.before_approach(m, out), Status::kOutsideDomain);
   EXPECT_NEAR(out.rae_um, 6.0, 1e-12);
-  EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain);
+  EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain | kFlagNoUncertainty);
 
   ASSERT_EQ(comp.publish(0, linear_model({3.0, -1.25, 4.0, 2.5}, {0, 0, 0, 0}), 0x44u),
             Status::kOk);
@@ -293,7 +295,7 @@ TEST(MoveCompensator, AppliesTheDomainPolicy) {
   ASSERT_EQ(clamp.publish(0, m), Status::kOk);
   Correction out;
   ASSERT_EQ(clamp.before_approach(move_at(200.0), out), Status::kOutsideDomain);
-  EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain);
+  EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain | kFlagNoUncertainty);
   EXPECT_NEAR(out.rae_um, 3.0, 1e-12);  // PV clamped to 80: x̂ = 1
 
   CompensatorOptions o;
@@ -379,6 +381,93 @@ TEST(MoveCompensatorHotSwap, ReaderSeesOneWholeModelAtATime) {
               static_cast<unsigned long long>(calls.load()),
               static_cast<unsigned long long>(seen_a.load()),
               static_cast<unsigned long long>(seen_b.load()));
+}
+
+}  // namespace
+}  // namespace cmmcomp::compensation
+
+namespace cmmcomp::compensation {
+namespace {
+
+IntervalCalibration test_interval() {
+  IntervalCalibration cal;
+  cal.coverage = 0.95;
+  cal.half_width = {2.0, 1.5, 1.0, 0.5};
+  cal.extrapolation_gain = {0.0, 1.0, 2.0, 0.25};
+  return cal;
+}
+
+// docs/uncertainty.md: U = h·(1 + g·d), d the distance from the training box in training ranges.
+TEST(MoveCompensatorInterval, InsideTheDomainU95IsTheHalfWidth) {
+  MoveCompensator comp;
+  const IntervalCalibration cal = test_interval();
+  ASSERT_EQ(comp.publish(0, linear_model({3.0, -1.25, 4.0, 2.5}, {1.0, 0.5, 0.0, 2.0}), cal, 5u),
+            Status::kOk);
+  Correction out;
+  ASSERT_EQ(comp.before_approach(move_at(42.5), out), Status::kOk);
+  EXPECT_EQ(out.flags, kFlagOk);  // calibrated: no kFlagNoUncertainty
+  for (std::size_t o = 0; o < 4; ++o) EXPECT_EQ(out.u95_um[o], cal.half_width[o]) << o;
+  EXPECT_NEAR(out.rae_um, 3.5, 1e-12);  // the prediction itself does not change
+}
+
+TEST(MoveCompensatorInterval, GrowsOutsideTheDomainUnderEitherPolicy) {
+  const Model m = linear_model({0, 0, 0, 1.0}, {0, 0, 0, 2.0});
+  const IntervalCalibration cal = test_interval();
+  // PV 200 against the range [5, 80]: d = (200 − 80)/75 = 1.6.
+  const double d = 120.0 / 75.0;
+  for (const auto policy : {fuzzy::DomainPolicy::kClamp, fuzzy::DomainPolicy::kExtrapolate}) {
+    CompensatorOptions o;
+    o.outside_domain = policy;
+    MoveCompensator comp{o};
+    ASSERT_EQ(comp.publish(0, m, cal), Status::kOk);
+    Correction out;
+    ASSERT_EQ(comp.before_approach(move_at(200.0), out), Status::kOutsideDomain);
+    EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain);
+    for (std::size_t k = 0; k < 4; ++k) {
+      EXPECT_NEAR(out.u95_um[k], cal.half_width[k] * (1.0 + cal.extrapolation_gain[k] * d), 1e-12)
+          << "output " << k;
+    }
+    EXPECT_GT(out.u95_um[3], cal.half_width[3]);
+  }
+}
+
+TEST(MoveCompensatorInterval, AnInvalidCalibrationIsRefusedAndTheOldModelServes) {
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, linear_model({0, 0, 0, 1.0}, {0, 0, 0, 0}), test_interval(), 1u),
+            Status::kOk);
+  for (const double bad : {std::nan(""), -1.0, std::numeric_limits<double>::infinity()}) {
+    IntervalCalibration cal = test_interval();
+    cal.half_width[2] = bad;
+    std::string why;
+    EXPECT_EQ(comp.publish(0, linear_model({0, 0, 0, 9.0}, {0, 0, 0, 0}), cal, 2u, &why),
+              Status::kInvalidInput);
+    EXPECT_NE(why.find("half-width of output 2"), std::string::npos) << why;
+  }
+  IntervalCalibration no_coverage = test_interval();
+  no_coverage.coverage = 0.0;  // values without a coverage: a corrupt calibration, not "none"
+  EXPECT_EQ(comp.publish(0, linear_model({0, 0, 0, 9.0}, {0, 0, 0, 0}), no_coverage, 3u),
+            Status::kInvalidInput);
+  Correction out;
+  ASSERT_EQ(comp.before_approach(move_at(40.0), out), Status::kOk);
+  EXPECT_EQ(out.model_id, 1u);
+  EXPECT_NEAR(out.rae_um, 1.0, 1e-12);
+  EXPECT_EQ(out.u95_um[3], 0.5);
+}
+
+// The calibration travels with its model: a hot swap to an uncalibrated model drops it.
+TEST(MoveCompensatorInterval, IsPublishedWithItsModel) {
+  MoveCompensator comp;
+  ASSERT_EQ(comp.publish(0, linear_model({0, 0, 0, 1.0}, {0, 0, 0, 0}), test_interval(), 1u),
+            Status::kOk);
+  ASSERT_EQ(comp.publish(0, linear_model({0, 0, 0, 2.0}, {0, 0, 0, 0}), 2u), Status::kOk);
+  Correction out;
+  ASSERT_EQ(comp.before_approach(move_at(40.0), out), Status::kOk);
+  EXPECT_EQ(out.flags, kFlagOk | kFlagNoUncertainty);
+  for (const double u : out.u95_um) EXPECT_EQ(u, 0.0);
+  // Axis 1 never had a model.
+  MoveRequest other = move_at(40.0);
+  other.axis = 1;
+  EXPECT_EQ(comp.before_approach(other, out), Status::kNoModel);
 }
 
 }  // namespace

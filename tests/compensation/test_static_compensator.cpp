@@ -45,7 +45,7 @@ MoveRequest random_move(std::mt19937_64& rng) {
 bool same(const Correction& a, const Correction& b) {
   return a.mpe_um == b.mpe_um && a.rpe_um == b.rpe_um && a.mae_um == b.mae_um &&
          a.rae_um == b.rae_um && a.correction_um == b.correction_um && a.flags == b.flags &&
-         a.sequence == b.sequence && a.model_id == b.model_id;
+         a.sequence == b.sequence && a.model_id == b.model_id && a.u95_um == b.u95_um;
 }
 
 // Large enough for a static; tests place compensators in static storage as firmware does.
@@ -73,6 +73,43 @@ TEST(StaticMoveCompensator, AnswersExactlyAsMoveCompensator) {
     ASSERT_EQ(g_five.before_approach(move, a), hosted5.before_approach(move, b));
     EXPECT_TRUE(same(a, b)) << "move " << k;
   }
+}
+
+// With an interval calibration too: the same U95, in and outside the domain.
+TEST(StaticMoveCompensator, CarriesTheIntervalAsMoveCompensator) {
+  static StaticMoveCompensator<Model> fw;
+  const Model m4 = linear_model({1.0, -2.0, 3.0, 0.5}, {4.0, 1.0, -1.0, 2.0}, 2);
+  IntervalCalibration cal;
+  cal.coverage = 0.95;
+  cal.half_width = {1.0, 2.0, 3.0, 4.0};
+  cal.extrapolation_gain = {0.5, 0.0, 1.0, 2.0};
+  MoveCompensator hosted;
+  for (int axis = 0; axis < kMaxAxes; ++axis) {
+    ASSERT_EQ(fw.publish(axis, m4, cal, 60 + axis), Status::kOk);
+    ASSERT_EQ(hosted.publish(axis, m4, cal, 60 + axis), Status::kOk);
+  }
+  std::mt19937_64 rng(test::seed());
+  int outside = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const MoveRequest move = random_move(rng);
+    Correction a;
+    Correction b;
+    const Status s = fw.before_approach(move, a);
+    ASSERT_EQ(s, hosted.before_approach(move, b));
+    if (!ok(s)) continue;
+    EXPECT_TRUE(same(a, b)) << "move " << k;
+    EXPECT_EQ(a.flags & kFlagNoUncertainty, 0u);
+    EXPECT_GE(a.u95_um[3], cal.half_width[3]);
+    if (s == Status::kOutsideDomain) {
+      ++outside;
+      EXPECT_GT(a.u95_um[3], cal.half_width[3]) << "move " << k;
+    }
+  }
+  EXPECT_GT(outside, 0) << "the random moves should leave the domain sometimes";
+  IntervalCalibration bad = cal;
+  bad.extrapolation_gain[1] = std::nan("");
+  EXPECT_EQ(fw.publish(0, m4, bad, 99), Status::kInvalidInput);
+  EXPECT_EQ(fw.model_id(0), 60u);
 }
 
 TEST(StaticMoveCompensator, NoModelInvalidInputAndBadAxis) {

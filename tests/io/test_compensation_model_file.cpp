@@ -60,6 +60,38 @@ TEST(CompensationModelFile, ParsesEveryServedInputSet) {
   EXPECT_EQ(comp.model_id(2), numeric_model_id(five));
 }
 
+// The shipped model carries its interval calibration, and publishing the file carries it into
+// every Correction (docs/uncertainty.md).
+TEST(CompensationModelFile, TheShippedModelPublishesItsInterval) {
+  const auto& f = default_model_file();
+  ASSERT_TRUE(f.interval.available()) << "data/models/default.json has no uncertainty";
+  EXPECT_EQ(f.interval.coverage, 0.95);
+  const auto any = parse_compensation_model(format_model_json(f), "d.json");
+  compensation::MoveCompensator comp;
+  ASSERT_EQ(publish(comp, 0, any), Status::kOk);
+  compensation::MoveRequest m;
+  m.axis = 0;
+  m.direction = {1.0, 0.0, 0.0};
+  m.pv_mm_s = 40.0;
+  m.pa_mm_s2 = 200.0;
+  m.pd_mm = 40.0;
+  m.av_mm_s = 12.0;
+  m.aa_mm_s2 = 60.0;
+  m.ad_mm = 10.0;
+  m.y_mm = 250.0;
+  compensation::Correction c;
+  ASSERT_EQ(comp.before_approach(m, c), Status::kOk);
+  EXPECT_EQ(c.flags & compensation::kFlagNoUncertainty, 0u);
+  for (std::size_t o = 0; o < 4; ++o) EXPECT_EQ(c.u95_um[o], f.interval.half_width[o]) << o;
+  // A file without a calibration publishes as "no uncertainty".
+  ModelFileOf<PaperInputs> plain = f;
+  plain.interval = {};
+  ASSERT_EQ(publish(comp, 0, parse_compensation_model(format_model_json(plain), "p.json")),
+            Status::kOk);
+  ASSERT_EQ(comp.before_approach(m, c), Status::kOk);
+  EXPECT_NE(c.flags & compensation::kFlagNoUncertainty, 0u);
+}
+
 TEST(CompensationModelFile, RefusesNamesTheCompensatorDoesNotFeed) {
   ModelFileOf<CarriageInputs> f = five_input_file();
   f.input_names[4] = "z_mm";

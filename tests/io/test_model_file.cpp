@@ -3,6 +3,7 @@
 /// the constexpr header export and the example in docs/model-file.md.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/io/file_io.hpp>
@@ -67,6 +68,9 @@ void expect_same(const ModelFile<I, S, O>& a, const ModelFile<I, S, O>& b) {
   EXPECT_EQ(a.output_names, b.output_names);
   EXPECT_EQ(a.output_units, b.output_units);
   EXPECT_EQ(a.training, b.training);
+  EXPECT_EQ(a.interval, b.interval);
+  EXPECT_EQ(a.interval_method, b.interval_method);
+  EXPECT_EQ(a.interval_samples, b.interval_samples);
 }
 
 ModelMetadata metadata(int outputs) {
@@ -105,6 +109,15 @@ ModelFile<I, S, O> random_model(std::mt19937_64& rng) {
                              0.1 + 0.2,
                              1.0 / 3.0,
                              123456789.0};
+  if (u(rng) < 0.5) {  // half of them carry an interval calibration
+    f.interval.coverage = 0.5 + 0.49 * u(rng);
+    for (std::size_t o = 0; o < static_cast<std::size_t>(O); ++o) {
+      f.interval.half_width[o] = 10.0 * u(rng);
+      f.interval.extrapolation_gain[o] = o == 0 ? 0.0 : 3.0 * u(rng);
+    }
+    f.interval_method = "split-conformal (test)";
+    f.interval_samples = 1 + static_cast<std::uint64_t>(100 * u(rng));
+  }
   auto& p = f.model.params;
   for (int i = 0; i < I; ++i) {
     for (int s = 0; s < S; ++s) {
@@ -364,12 +377,100 @@ TEST(ModelFileRejects, WrongFormatOrVersion) {
   const std::string text = format_model_json(golden_model());
   EXPECT_REJECTED(replaced(text, "cmmcomp-tsk-model", "cmmcomp-machine"),
                   "format is 'cmmcomp-machine', expected 'cmmcomp-tsk-model'");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 1", "\"format_version\": 2"),
-                  "format_version 2 is not supported (this library reads version 1)");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 1", "\"format_version\": \"1\""),
-                  "format_version \"1\" is not supported");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 1,", ""), "missing key 'format_version'");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 2", "\"format_version\": 3"),
+                  "format_version 3 is not supported (this library reads versions 1 and 2)");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 2", "\"format_version\": \"2\""),
+                  "format_version \"2\" is not supported");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 2,", ""), "missing key 'format_version'");
   EXPECT_REJECTED(replaced(text, "\"format\": \"cmmcomp-tsk-model\",", ""), "missing key 'format'");
+}
+
+/// `text` (a version-2 file) re-signed: its checksum recomputed after an edit, so the test
+/// reaches the check it means instead of stopping at the checksum.
+std::string resigned(const std::string& text) {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(text);
+  doc.erase("checksum");
+  const nlohmann::json sorted = nlohmann::json::parse(doc.dump());
+  doc["checksum"] = sha256_hex(sorted.dump());
+  return doc.dump(2);
+}
+
+/// The golden model written as format version 1 (no `uncertainty` key), as the library before
+/// the interval wrote it.
+std::string version_1_text() {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(format_model_json(golden_model()));
+  doc["format_version"] = 1;
+  doc.erase("uncertainty");
+  return resigned(doc.dump());
+}
+
+TEST(ModelFile, Version1StillLoadsWithNoUncertainty) {
+  const ModelFile<2, 3, 1> f = parse_model_json<2, 3, 1>(version_1_text(), "v1.json");
+  EXPECT_EQ(f.format_version, kModelFileVersionNoUncertainty);
+  EXPECT_FALSE(f.interval.available());
+  EXPECT_TRUE(bit_identical(f.model, golden_model().model));
+  EXPECT_EQ(f.training, golden_model().training);
+  // A version-1 file may not carry the version-2 key, even null.
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(version_1_text());
+  doc["uncertainty"] = nullptr;
+  EXPECT_REJECTED(resigned(doc.dump()), "unknown key 'uncertainty'");
+}
+
+TEST(ModelFile, Version2RequiresTheUncertaintyKey) {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(format_model_json(golden_model()));
+  doc.erase("uncertainty");
+  EXPECT_REJECTED(resigned(doc.dump()), "missing key 'uncertainty'");
+}
+
+ModelFile<2, 3, 1> calibrated_golden_model() {
+  ModelFile<2, 3, 1> f = golden_model();
+  f.interval.coverage = 0.95;
+  f.interval.half_width = {0.75};
+  f.interval.extrapolation_gain = {1.5};
+  f.interval_method = "split-conformal (test)";
+  f.interval_samples = 54;
+  return f;
+}
+
+TEST(ModelFile, Version2RoundTripKeepsTheCalibration) {
+  const ModelFile<2, 3, 1> f = calibrated_golden_model();
+  const std::string text = format_model_json(f);
+  EXPECT_NE(text.find("\"uncertainty\": {"), std::string::npos) << text;
+  const ModelFile<2, 3, 1> back = parse_model_json<2, 3, 1>(text, "v2.json");
+  EXPECT_EQ(back.format_version, kModelFileVersion);
+  expect_same(back, f);
+  EXPECT_TRUE(back.interval.available());
+  EXPECT_EQ(format_model_json(back), text);
+  // The calibration is covered by the checksum.
+  EXPECT_REJECTED(replaced(text, "0.75", "0.76"), "checksum mismatch");
+}
+
+TEST(ModelFileRejects, CorruptUncertainty) {
+  const std::string text = format_model_json(calibrated_golden_model());
+  const auto edit = [&](const std::string& from, const std::string& to) {
+    return resigned(replaced(text, from, to));
+  };
+  EXPECT_REJECTED(edit("\"coverage\": 0.95", "\"coverage\": 1.5"), "uncertainty.coverage = 1.5");
+  EXPECT_REJECTED(edit("\"coverage\": 0.95", "\"coverage\": 0"),
+                  "uncertainty.coverage = 0 (write null for no calibration)");
+  EXPECT_REJECTED(edit("\"half_width\": [0.75]", "\"half_width\": [-0.75]"),
+                  "uncertainty.half_width[0] = -0.75 must be finite and >= 0");
+  EXPECT_REJECTED(edit("\"half_width\": [0.75]", "\"half_width\": [0.75, 1]"),
+                  "uncertainty.half_width");
+  EXPECT_REJECTED(edit("\"extrapolation_gain\": [1.5]", "\"extrapolation_gain\": [-1]"),
+                  "uncertainty.extrapolation_gain[0] = -1");
+  EXPECT_REJECTED(edit("\"calibration_samples\": 54", "\"calibration_samples\": 0"),
+                  "uncertainty.calibration_samples must be > 0");
+  EXPECT_REJECTED(edit("\"method\": \"split-conformal (test)\"", "\"method\": \"\""),
+                  "uncertainty.method is empty");
+  EXPECT_REJECTED(edit("\"coverage\": 0.95", "\"coverage_\": 0.95"), "coverage_");
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(text);
+  doc["uncertainty"] = 5;
+  EXPECT_REJECTED(resigned(doc.dump()), "uncertainty");
+  // Writing refuses an invalid calibration too.
+  ModelFile<2, 3, 1> bad = calibrated_golden_model();
+  bad.interval.half_width = {std::nan("")};
+  EXPECT_THROW((void)format_model_json(bad), ConfigError);
 }
 
 TEST(ModelFileRejects, ArchitectureMismatchNamesBoth) {

@@ -89,9 +89,15 @@ int run_fit(const FitCommand& cmd) {
               s.iterations,
               s.initial_cost,
               s.final_cost);
-  std::printf("%-6s %14s %14s\n", "", "train RMSE um", "CV RMSE um");
+  std::printf(
+      "%-6s %14s %14s %14s %12s\n", "", "train RMSE um", "CV RMSE um", "U95 um", "U95 gain");
   for (std::size_t o = 0; o < 4; ++o) {
-    std::printf("%-6s %14.4f %14.4f\n", cmmcomp::kErrors[o].label, s.train_rmse[o], s.cv_rmse[o]);
+    std::printf("%-6s %14.4f %14.4f %14.4f %12.3f\n",
+                cmmcomp::kErrors[o].label,
+                s.train_rmse[o],
+                s.cv_rmse[o],
+                result.interval.half_width[o],
+                result.interval.extrapolation_gain[o]);
   }
   if (!s.usable()) {
     std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n", s.message.c_str());
@@ -106,6 +112,11 @@ int run_fit(const FitCommand& cmd) {
   file.training.trained_at = cmmcomp::io::utc_timestamp_now();
   file.training.seed = cmd.seed;
   file.training.tool_version = std::string("cmmcomp-train ") + CMMCOMP_VERSION_STRING;
+  file.interval = result.interval;
+  if (result.interval.available()) {
+    file.interval_method = cmmcomp::training::kIntervalMethod;
+    file.interval_samples = s.interval_samples;
+  }
   const std::string id = cmmcomp::io::save_model_file(cmd.output, file);
   std::printf("wrote %s (model id %s)\n", cmd.output.c_str(), id.c_str());
   return 0;
@@ -122,6 +133,9 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
   const std::size_t n = rows.size();
   cmmcomp::training::TestSetPredictions p;
   std::size_t outside = 0;
+  // Coverage of the prediction interval: |measured − predicted| <= U (docs/uncertainty.md).
+  std::array<std::size_t, 4> covered{};
+  std::array<double, 4> u_sum{};
   for (std::size_t i = 0; i < n; ++i) {
     std::array<double, 4> y{};
     const cmmcomp::Status st = cmmcomp::fuzzy::evaluate(
@@ -131,11 +145,20 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
           "{}: row {}: the model cannot evaluate it ({})", data, i + 1, cmmcomp::to_string(st)));
     }
     if (st == cmmcomp::Status::kOutsideDomain) ++outside;
+    std::array<double, 4> u{};
+    cmmcomp::fuzzy::interval_half_widths(
+        file.interval, cmmcomp::fuzzy::domain_distance(file.model.ranges, samples.inputs[i]), u);
     for (std::size_t o = 0; o < 4; ++o) {
       p.measured[o].push_back(samples.targets[i][o]);
       p.predicted[o].push_back(y[o]);
+      covered[o] += std::abs(samples.targets[i][o] - y[o]) <= u[o] ? 1 : 0;
+      u_sum[o] += u[o];
     }
   }
+  const bool has_interval = file.interval.available();
+  const auto coverage_pct = [&](std::size_t o) {
+    return 100.0 * static_cast<double>(covered[o]) / static_cast<double>(n);
+  };
   const auto t = cmmcomp::training::table5(p);
   if (json) {
     nlohmann::json j;
@@ -145,7 +168,12 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
                                     {"reduction_pct", t[o].reduction_pct},
                                     {"var_after_um2", t[o].var_after},
                                     {"max_abs_residual_um", t[o].max_abs}};
+      if (has_interval) {
+        j[cmmcomp::kErrors[o].key]["coverage_pct"] = coverage_pct(o);
+        j[cmmcomp::kErrors[o].key]["mean_u95_um"] = u_sum[o] / static_cast<double>(n);
+      }
     }
+    j["interval_coverage_nominal_pct"] = 100.0 * file.interval.coverage;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf(
@@ -176,6 +204,20 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
                   t[o].var_after,
                   cmmcomp::paper::kTable5VarianceAfter[o],
                   t[o].max_abs);
+    }
+    if (has_interval) {
+      std::printf(
+          "prediction interval (nominal coverage %.0f %%): measured within predicted +- U\n",
+          100.0 * file.interval.coverage);
+      for (std::size_t o = 0; o < 4; ++o) {
+        std::printf("%-5s coverage %5.1f %%  mean U %.3f um\n",
+                    cmmcomp::kErrors[o].label,
+                    coverage_pct(o),
+                    u_sum[o] / static_cast<double>(n));
+      }
+    } else {
+      std::printf("prediction interval: the model has none (format version %d)\n",
+                  file.format_version);
     }
   }
   if (!plot.empty()) {

@@ -103,7 +103,20 @@ class BasicMoveCompensator {
                  std::uint64_t model_id = 0,
                  std::string* why = nullptr) {
     static_assert(kServes<Inputs>, "this compensator does not serve the model's input set");
-    return publish_impl(axis, model, model_id, why);
+    return publish_impl(axis, model, IntervalCalibration{}, model_id, why);
+  }
+
+  /// The same, with the model's interval calibration (its file's `uncertainty`): every
+  /// Correction it computes carries u95_um. kInvalidInput also when `interval` is not valid
+  /// (fuzzy::validate_interval).
+  template <typename Inputs>
+  Status publish(int axis,
+                 const Model<Inputs, double>& model,
+                 const IntervalCalibration& interval,
+                 std::uint64_t model_id = 0,
+                 std::string* why = nullptr) {
+    static_assert(kServes<Inputs>, "this compensator does not serve the model's input set");
+    return publish_impl(axis, model, interval, model_id, why);
   }
 
   /// Number of inputs of the model last published for `axis` (0 when none or bad axis).
@@ -146,11 +159,13 @@ class BasicMoveCompensator {
     if (index == kNone) return Status::kNoModel;
     Buffer& b = a.buffers[static_cast<std::size_t>(index)];
     std::array<double, kModelOutputs> y;
-    const Status s = evaluate_served(b.model, move, y, options_.outside_domain);
+    std::array<double, kModelOutputs> u95;
+    const Status s = evaluate_served(b.model, b.interval, move, y, u95, options_.outside_domain);
     const std::uint64_t model_id = b.model_id;
+    const bool has_interval = b.interval.available();
     b.exits.fetch_add(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
-    return fill_correction(move, y, s, model_id, out);
+    return fill_correction(move, y, u95, has_interval, s, model_id, out);
   }
 
  private:
@@ -165,14 +180,17 @@ class BasicMoveCompensator {
   /// bad_variant_access, which a variant of trivially copyable models never needs.
   template <std::size_t kIndex = 0>
   static Status evaluate_served(const AnyModel& model,
+                                const IntervalCalibration& interval,
                                 const MoveRequest& move,
                                 std::array<double, kModelOutputs>& y,
+                                std::array<double, kModelOutputs>& u95,
                                 fuzzy::DomainPolicy policy) noexcept {
     if constexpr (kIndex < sizeof...(Sets)) {
       if (const auto* m = std::get_if<kIndex>(&model)) {
+        u95 = interval_of(*m, interval, move);
         return fuzzy::evaluate(*m, m->input(move), y, policy);
       }
-      return evaluate_served<kIndex + 1>(model, move, y, policy);
+      return evaluate_served<kIndex + 1>(model, interval, move, y, u95, policy);
     } else {
       return Status::kNoModel;  // unreachable: a buffer always holds a served model
     }
@@ -180,6 +198,7 @@ class BasicMoveCompensator {
 
   struct Buffer {
     AnyModel model{};
+    IntervalCalibration interval{};  ///< published with the model
     std::uint64_t model_id = 0;
     std::atomic<std::uint64_t> exits{0};  ///< readers that left this buffer
   };
@@ -193,6 +212,7 @@ class BasicMoveCompensator {
   template <typename Inputs>
   Status publish_impl(int axis,
                       const Model<Inputs, double>& model,
+                      const IntervalCalibration& interval,
                       std::uint64_t model_id,
                       std::string* why) {
     if (axis < 0 || axis >= kMaxAxes) {
@@ -200,6 +220,7 @@ class BasicMoveCompensator {
       return Status::kInvalidInput;
     }
     if (!fuzzy::validate(model, why)) return Status::kInvalidInput;
+    if (!fuzzy::validate_interval(interval, why)) return Status::kInvalidInput;
     const std::lock_guard<std::mutex> lock(publish_mutex_);
     Axis& a = axes_[static_cast<std::size_t>(axis)];
     const std::uint64_t old_index = a.state.load(std::memory_order_relaxed) >> kIndexShift;
@@ -207,6 +228,7 @@ class BasicMoveCompensator {
     const std::uint64_t next = old_index == 0 ? 1 : 0;
     Buffer& b = a.buffers[next];
     b.model.template emplace<Model<Inputs, double>>(model);
+    b.interval = interval;
     b.model_id = model_id;
     b.exits.store(0, std::memory_order_relaxed);
     a.published_id.store(model_id, std::memory_order_relaxed);

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmmcomp/compensation/move_request.hpp>
+#include <cmmcomp/fuzzy/prediction_interval.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/status.hpp>
@@ -43,6 +44,24 @@ struct Model : fuzzy::TskModel<Scalar, InputsT::kCount, kSetsPerInput, kModelOut
   }
 };
 
+/// The interval calibration of a compensation model (fuzzy/prediction_interval.hpp). It is
+/// published with the model into the same buffer (so a hot swap changes both at once) and is
+/// not part of Model itself: Model's layout is the firmware C ABI's cmmcomp_fw_model.
+using IntervalCalibration = fuzzy::IntervalCalibration<kModelOutputs>;
+
+/// The interval half-widths [µm] of `move` under `model` with calibration `interval`: the
+/// distance is taken from the move's inputs as given (before any clamping). RT-safe.
+template <typename M>
+inline std::array<double, kModelOutputs> interval_of(const M& model,
+                                                     const IntervalCalibration& interval,
+                                                     const MoveRequest& move) noexcept {
+  std::array<double, kModelOutputs> u{};
+  if (interval.available()) {
+    fuzzy::interval_half_widths(interval, fuzzy::domain_distance(model.ranges, M::input(move)), u);
+  }
+  return u;
+}
+
 /// True when `M` is a compensation::Model (of any input set and precision).
 template <typename M, typename = void>
 inline constexpr bool kIsCompensationModel = false;
@@ -58,11 +77,15 @@ static_assert(kErrors[0].correction == &Correction::mpe_um &&
               "fill_correction writes the outputs in schema.hpp's kErrors order");
 
 /// Writes the Correction of `move` from the model's outputs `y` (MPE, RPE, MAE, RAE, finite)
-/// computed with status `s` (ok) by the model `model_id`: correction_um = RAE·d, and returns `s`.
+/// and interval half-widths `u95` (interval_of) computed with status `s` (ok) by the model
+/// `model_id` (`has_interval`: its calibration is available): correction_um = RAE·d, and
+/// returns `s`.
 /// RAE·d can overflow although RAE is finite (|d| may exceed 1 by kDirectionTolerance): then it
 /// returns kInvalidInput and leaves `out` untouched, so a correction is never infinite. RT-safe.
 [[nodiscard]] inline Status fill_correction(const MoveRequest& move,
                                             const std::array<double, kModelOutputs>& y,
+                                            const std::array<double, kModelOutputs>& u95,
+                                            bool has_interval,
                                             Status s,
                                             std::uint64_t model_id,
                                             Correction& out) noexcept {
@@ -82,7 +105,8 @@ static_assert(kErrors[0].correction == &Correction::mpe_um &&
   out.mae_um = y[2];
   out.rae_um = y[3];
   out.correction_um = correction;
-  out.flags = flags_for(s);
+  out.u95_um = u95;
+  out.flags = flags_for(s) | (has_interval ? 0u : static_cast<std::uint32_t>(kFlagNoUncertainty));
   out.sequence = move.sequence;
   out.model_id = model_id;
   return s;

@@ -44,7 +44,15 @@ enum CorrectionFlag : std::uint32_t {
   kFlagOutsideDomain = 1u << 1,  ///< an input was outside the training ranges; policy applied
   kFlagInvalidInput = 1u << 2,   ///< the request was rejected (NaN, inf, ≤ 0, bad axis/direction)
   kFlagNoModel = 1u << 3,        ///< no model published for the axis
+  /// The model carries no interval calibration (a format-version-1 file, or a model built in
+  /// code): Correction::u95_um is 0 and means "unknown", not "exact" (docs/uncertainty.md).
+  kFlagNoUncertainty = 1u << 4,
 };
+
+/// The CorrectionFlag bits of protocol version 1 (CAN, Modbus): what a client written before
+/// the interval knew. The wire formats carry only these until their version 2.
+inline constexpr std::uint32_t kFlagsVersion1 =
+    kFlagOk | kFlagOutsideDomain | kFlagInvalidInput | kFlagNoModel;
 
 /// The flags that describe `s`, for a caller that reports failures through a Correction (the
 /// compensator itself writes a Correction only when ok(s)). RT-safe.
@@ -72,6 +80,12 @@ struct Correction {
   /// Correction of the touch point [µm], machine coordinates: +RAE·d. The controller ADDS it to
   /// the scale-reported touch point (docs/compensator.md, "Signs").
   std::array<double, 3> correction_um{0.0, 0.0, 0.0};
+  /// Half-width of the prediction interval of each predicted error [µm], in schema.hpp's
+  /// kErrors order (MPE, RPE, MAE, RAE): the measured error lies within predicted ± u95 with the
+  /// model's calibrated coverage (95 % for every model cmmcomp-train writes). It grows with the
+  /// move's distance outside the training ranges, whatever the domain policy. 0 with
+  /// kFlagNoUncertainty when the model has no calibration. docs/uncertainty.md.
+  std::array<double, 4> u95_um{0.0, 0.0, 0.0, 0.0};
   std::uint32_t flags = 0;     ///< CorrectionFlag bits
   std::uint32_t sequence = 0;  ///< MoveRequest::sequence echoed
   std::uint64_t model_id = 0;  ///< id of the model that computed it (first 16 hex of checksum)

@@ -90,7 +90,18 @@ class StaticMoveCompensator {
                  const Network& model,
                  std::uint64_t model_id = 0,
                  fuzzy::ModelProblem* problem = nullptr) noexcept {
+    return publish(axis, model, IntervalCalibration{}, model_id, problem);
+  }
+
+  /// The same, with the model's interval calibration: every Correction it computes carries
+  /// u95_um. kInvalidInput also when fuzzy::interval_is_valid(interval) is false.
+  Status publish(int axis,
+                 const Network& model,
+                 const IntervalCalibration& interval,
+                 std::uint64_t model_id = 0,
+                 fuzzy::ModelProblem* problem = nullptr) noexcept {
     if (axis < 0 || axis >= kAxes) return Status::kInvalidInput;
+    if (!fuzzy::interval_is_valid(interval)) return Status::kInvalidInput;
     const fuzzy::ModelProblem found = fuzzy::find_problem(model);
     if (problem != nullptr) *problem = found;
     if (found) return Status::kInvalidInput;
@@ -102,6 +113,7 @@ class StaticMoveCompensator {
     // A byte copy of the network into the Model (which is nothing but the network) starts the
     // member's lifetime, as the trivial copy of publish_bytes does.
     std::memcpy(static_cast<void*>(&b.slot.model), &model, sizeof(Model));
+    b.interval = interval;
     b.model_id = model_id;
     published_ = true;
     a.current.store(next + 1, std::memory_order_release);
@@ -128,6 +140,7 @@ class StaticMoveCompensator {
     const fuzzy::ModelProblem found = fuzzy::find_problem(b.slot.model);
     if (problem != nullptr) *problem = found;
     if (found) return Status::kInvalidInput;
+    b.interval = IntervalCalibration{};  // the C ABI's model bytes carry no calibration
     b.model_id = model_id;
     published_ = true;
     a.current.store(next + 1, std::memory_order_release);
@@ -161,10 +174,12 @@ class StaticMoveCompensator {
     b.readers.fetch_add(1, std::memory_order_acquire);
     typename Model::RawOutput y;
     const Status s = fuzzy::evaluate(b.slot.model, Model::input(move), y, outside_domain_);
+    const auto u95 = interval_of(b.slot.model, b.interval, move);
+    const bool has_interval = b.interval.available();
     const std::uint64_t model_id = b.model_id;
     b.readers.fetch_sub(1, std::memory_order_release);  // the buffer is not read after this
     if (!ok(s)) return s;
-    return fill_correction(move, y, s, model_id, out);
+    return fill_correction(move, y, u95, has_interval, s, model_id, out);
   }
 
  private:
@@ -184,6 +199,7 @@ class StaticMoveCompensator {
 
   struct Buffer {
     ModelSlot slot;
+    IntervalCalibration interval{};  ///< published with the model
     std::uint64_t model_id = 0;
     std::atomic<std::uint32_t> readers{0};  ///< readers inside this buffer now
   };

@@ -112,7 +112,8 @@ const std::string& model_id(const CompensationModelFile& file);
 /// Number of inputs of the file's network.
 int model_inputs(const CompensationModelFile& file);
 
-/// Publishes the file's network into `axis` of `compensator` with numeric_model_id(file).
+/// Publishes the file's network and its interval calibration (none for a format-1 file) into
+/// `axis` of `compensator` with numeric_model_id(file).
 /// Returns what MoveCompensator::publish returns.
 Status publish(compensation::MoveCompensator& compensator,
                int axis,

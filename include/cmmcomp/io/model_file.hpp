@@ -2,9 +2,10 @@
 /// @file The versioned JSON model file of a trained T-S network, and its constexpr C++ export.
 ///
 /// Format (docs/model-file.md): one JSON object with `format` = "cmmcomp-tsk-model",
-/// `format_version` = 1, `architecture`, `inputs` (names, units, normalisation ranges),
+/// `format_version` = 2, `architecture`, `inputs` (names, units, normalisation ranges),
 /// `outputs`, `parameters` (centres, widths and consequents as nested arrays, same order as the
-/// flat layout of tsk_params.hpp), `training` metadata, and `checksum`: the SHA-256 (lower-case
+/// flat layout of tsk_params.hpp), `training` metadata, `uncertainty` (the prediction interval's
+/// calibration, or null; docs/uncertainty.md), and `checksum`: the SHA-256 (lower-case
 /// hex) of the compact, key-sorted serialisation of the object without `checksum`. Loading
 /// validates everything and throws ConfigError "source: where: what is wrong".
 ///
@@ -14,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <cmmcomp/fuzzy/prediction_interval.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/sha256.hpp>
@@ -25,8 +27,11 @@ namespace cmmcomp::io {
 
 /// `format` of every model file.
 inline constexpr const char* kModelFileFormat = "cmmcomp-tsk-model";
-/// `format_version` this library writes and the only one it reads.
-inline constexpr int kModelFileVersion = 1;
+/// `format_version` this library writes. It reads this one and kModelFileVersionNoUncertainty.
+inline constexpr int kModelFileVersion = 2;
+/// The first format version, without `uncertainty`: still read, as a model with no interval
+/// calibration (its Corrections carry kFlagNoUncertainty).
+inline constexpr int kModelFileVersionNoUncertainty = 1;
 
 /// How a model was trained (the `training` object). Informational: nothing here changes how the
 /// model evaluates, but it is covered by the checksum.
@@ -68,6 +73,16 @@ struct ModelFile {
   std::array<std::string, kOutputs> output_names{};  ///< unique, non-empty (e.g. "mpe_um")
   std::array<std::string, kOutputs> output_units{};  ///< unit of each output (e.g. "um")
   ModelMetadata training{};                          ///< how it was trained
+  /// The prediction interval's calibration (`uncertainty`); not available() when the file has
+  /// none (`uncertainty` null, or format version 1).
+  fuzzy::IntervalCalibration<kOutputs> interval{};
+  /// How `interval` was calibrated (free text, non-empty when available), and from how many
+  /// samples (> 0 when available). Informational, covered by the checksum.
+  std::string interval_method;
+  std::uint64_t interval_samples = 0;
+  /// The file's `format_version` (filled by parse/load; files are always written in
+  /// kModelFileVersion).
+  int format_version = kModelFileVersion;
   /// SHA-256 of the content (64 hex). Filled by parse/load; ignored when writing (recomputed).
   std::string checksum;
   /// First 16 hex digits of `checksum`: names the model in logs. Filled by parse/load.
@@ -85,6 +100,11 @@ struct ModelData {
   std::vector<fuzzy::InputRange> ranges;
   std::vector<double> params;  ///< flat layout of tsk_params.hpp
   ModelMetadata training;
+  double interval_coverage = 0;  ///< 0: no calibration (then the vectors are empty)
+  std::vector<double> interval_half_width, interval_gain;
+  std::string interval_method;
+  std::uint64_t interval_samples = 0;
+  int format_version = kModelFileVersion;
   std::string checksum;
 };
 
@@ -114,6 +134,14 @@ ModelData to_data(const ModelFile<kInputs, kSets, kOutputs>& file) {
   d.ranges.assign(file.model.ranges.begin(), file.model.ranges.end());
   d.params.assign(file.model.params.values.begin(), file.model.params.values.end());
   d.training = file.training;
+  if (file.interval.available()) {
+    d.interval_coverage = file.interval.coverage;
+    d.interval_half_width.assign(file.interval.half_width.begin(), file.interval.half_width.end());
+    d.interval_gain.assign(file.interval.extrapolation_gain.begin(),
+                           file.interval.extrapolation_gain.end());
+    d.interval_method = file.interval_method;
+    d.interval_samples = file.interval_samples;
+  }
   return d;
 }
 
@@ -133,6 +161,16 @@ ModelFile<kInputs, kSets, kOutputs> from_data(const ModelData& d) {
     f.model.params.values[k] = d.params[k];
   }
   f.training = d.training;
+  if (d.interval_coverage > 0) {
+    f.interval.coverage = d.interval_coverage;
+    for (std::size_t o = 0; o < static_cast<std::size_t>(kOutputs); ++o) {
+      f.interval.half_width[o] = d.interval_half_width[o];
+      f.interval.extrapolation_gain[o] = d.interval_gain[o];
+    }
+    f.interval_method = d.interval_method;
+    f.interval_samples = d.interval_samples;
+  }
+  f.format_version = d.format_version;
   f.checksum = d.checksum;
   f.model_id = d.checksum.substr(0, 16);
   return f;
@@ -144,7 +182,8 @@ ModelFile<kInputs, kSets, kOutputs> from_data(const ModelData& d) {
 /// computed). Setup only. Throws ConfigError if `file` would not load back: model not valid
 /// (`fuzzy::validate`), an empty or duplicate name, `training.cv_rmse` not one finite value >= 0
 /// per output, a malformed `trained_at` or `data_file_sha256`, a negative or non-finite lambda,
-/// an empty method or tool version.
+/// an empty method or tool version, an interval calibration that is not valid
+/// (fuzzy::validate_interval) or available without a method or samples.
 template <int kInputs, int kSets, int kOutputs>
 std::string format_model_json(const ModelFile<kInputs, kSets, kOutputs>& file) {
   return detail::format_model_json(detail::to_data(file));
@@ -153,10 +192,10 @@ std::string format_model_json(const ModelFile<kInputs, kSets, kOutputs>& file) {
 /// Parses and validates model file text; `source` names it in messages. The file's
 /// architecture must be kInputs × kSets × kOutputs. Setup only. Throws ConfigError naming the
 /// source, the key path and the problem: not JSON (with byte offset), wrong `format`, missing or
-/// unsupported `format_version`, architecture mismatch (both stated), a missing or unknown key,
-/// a wrong type or array length, a non-finite number, width <= 0, lo >= hi, a checksum
-/// mismatch, or a number not written in the canonical form this library writes (an edit that
-/// kept the value; see docs/model-file.md).
+/// unsupported `format_version` (1 and 2 are read; 1 has no `uncertainty`), architecture mismatch
+/// (both stated), a missing or unknown key, a wrong type or array length, a non-finite number,
+/// width <= 0, lo >= hi, a checksum mismatch, or a number not written in the canonical form this
+/// library writes (an edit that kept the value; see docs/model-file.md).
 template <int kInputs, int kSets, int kOutputs>
 ModelFile<kInputs, kSets, kOutputs> parse_model_json(const std::string& text,
                                                      const std::string& source) {

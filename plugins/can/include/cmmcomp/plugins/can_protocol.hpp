@@ -520,7 +520,7 @@ inline Status encode_response(const compensation::Correction& c,
   };
   if (c.sequence > kSequenceMask || axis > 3) return Status::kInvalidInput;
   auto words = part_words<kResponseParts>(response::kPart, response::kSequence, c.sequence);
-  put_raw(words[0], response::kFlags, c.flags & 0xFu);
+  put_raw(words[0], response::kFlags, c.flags & compensation::kFlagsVersion1);
   put_raw(words[0], response::kAxis, axis);
   put_raw(words[2], response::kModelId, static_cast<std::int64_t>(c.model_id & 0xFFFFFFFFu));
   if (put_values(items, words, bad) != Status::kOk) return Status::kInvalidInput;

@@ -312,7 +312,9 @@ inline void encode_result(std::uint16_t sequence,
   if (ok(status) && !usable) status = Status::kInvalidInput;
   in[kResultSequence] = sequence;
   in[kResultStatus] = static_cast<std::uint16_t>(static_cast<std::int16_t>(status));
-  in[kResultFlags] = static_cast<std::uint16_t>(usable ? c.flags : compensation::flags_for(status));
+  // Protocol version 1 carries only the flags a version-1 client knows (docs/modbus-protocol.md).
+  in[kResultFlags] = static_cast<std::uint16_t>(
+      (usable ? c.flags : compensation::flags_for(status)) & compensation::kFlagsVersion1);
   in[kResultAxis] = axis;
   in[kResultReserved] = 0;
   const std::array<double, 7> values = result_values(c);
