@@ -48,11 +48,8 @@ summary() {
              red["rae"], after["rae"] }' "$1"
 }
 
-# value FILE PARAMETER KEY: one number of `cmmcomp-train eval --json`.
-value() {
-  awk -v want="$2" -v field="$3" '/^  "(mpe|rpe|mae|rae)"/ { gsub(/[":{ ]/, ""); key = $0 }
-       key == want && $0 ~ "\"" field "\"" { gsub(/[",]/, ""); print $2 }' "$1"
-}
+# shellcheck source=lib/eval-json.sh
+source "$here/scripts/lib/eval-json.sh"
 failures=0
 fail() { echo "cross-machine: FAIL: $*"; failures=$((failures + 1)); }
 

@@ -90,10 +90,12 @@ int run_fit(const FitCommand& cmd) {
               s.initial_cost,
               s.final_cost);
   std::printf(
-      "%-6s %14s %14s %14s %12s\n", "", "train RMSE um", "CV RMSE um", "U95 um", "U95 gain");
+      "%-6s %14s %14s %14s %14s %12s\n", "", "init RMSE um", "train RMSE um", "CV RMSE um",
+      "U95 um", "U95 gain");
   for (std::size_t o = 0; o < 4; ++o) {
-    std::printf("%-6s %14.4f %14.4f %14.4f %12.3f\n",
+    std::printf("%-6s %14.4f %14.4f %14.4f %14.4f %12.3f\n",
                 cmmcomp::kErrors[o].label,
+                s.init_train_rmse[o],
                 s.train_rmse[o],
                 s.cv_rmse[o],
                 result.interval.half_width[o],
@@ -174,6 +176,8 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
       }
     }
     j["interval_coverage_nominal_pct"] = 100.0 * file.interval.coverage;
+    j["samples"] = n;
+    j["outside_domain"] = outside;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf(
