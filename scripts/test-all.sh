@@ -3,7 +3,7 @@
 # README command 2 (and all of CI): install what is missing, then build and run every test:
 # the release build with warnings as errors (all ctest labels), the ASan+UBSan build of the
 # tests, the firmware builds (Cortex-M7 under qemu-system-arm, aarch64 under qemu-aarch64), the
-# ThreadSanitizer on the concurrency tests, the libFuzzer smoke and the clang-format check.
+# ThreadSanitizer on the concurrency tests and the libFuzzer smoke, after the clang-format check.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
@@ -11,6 +11,11 @@ jobs="$(nproc)"
 start=$(date +%s)
 
 bash scripts/install-deps.sh
+
+# The format check first: it takes seconds, and a formatting slip should not wait 40 minutes of
+# builds to be reported.
+echo "== format check =="
+bash scripts/check-format.sh
 
 # stage TITLE PRESET [CTEST ARGS...]: configure, build and test one preset, timing it. With
 # STAGE_TARGETS set, builds only those targets.
@@ -41,8 +46,5 @@ STAGE_TARGETS="test_move_compensator test_static_compensator test_modbus_server 
   stage "ThreadSanitizer: the concurrency tests" tsan -L concurrency -j "$jobs"
 # One target at a time: each fuzzes for CMMCOMP_FUZZ_SECONDS.
 stage "libFuzzer smoke: every target on its committed corpus" fuzz
-
-echo "== format check =="
-bash scripts/check-format.sh
 
 echo "test-all: everything passed in $(( $(date +%s) - start )) s"

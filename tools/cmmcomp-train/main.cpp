@@ -89,9 +89,13 @@ int run_fit(const FitCommand& cmd) {
               s.iterations,
               s.initial_cost,
               s.final_cost);
-  std::printf(
-      "%-6s %14s %14s %14s %14s %12s\n", "", "init RMSE um", "train RMSE um", "CV RMSE um",
-      "U95 um", "U95 gain");
+  std::printf("%-6s %14s %14s %14s %14s %12s\n",
+              "",
+              "init RMSE um",
+              "train RMSE um",
+              "CV RMSE um",
+              "U95 um",
+              "U95 gain");
   for (std::size_t o = 0; o < 4; ++o) {
     std::printf("%-6s %14.4f %14.4f %14.4f %14.4f %12.3f\n",
                 cmmcomp::kErrors[o].label,
