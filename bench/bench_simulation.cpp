@@ -12,49 +12,88 @@ namespace {
 
 using namespace cmmcomp;
 
-// One baseline move (PV 40, PD 40, AV 12, AD 10, Y 250) on one core; counters report CVODE work.
-void BM_BaselineMove(benchmark::State& state) {
-  dynamics::BridgeSimulator sim(dynamics::default_machine());
-  dynamics::SimulationResult r;
-  for (auto _ : state) {
-    r = sim.simulate(motion::baseline_move(), 0.25);
-    benchmark::DoNotOptimize(r.errors_um);
+// The largest change of the four parameters between two results [µm].
+double max_deviation(const errors::DynamicErrors& a, const errors::DynamicErrors& b) {
+  double dev = 0.0;
+  for (const auto member : {&errors::DynamicErrors::mpe,
+                            &errors::DynamicErrors::rpe,
+                            &errors::DynamicErrors::mae,
+                            &errors::DynamicErrors::rae}) {
+    dev = std::max(dev, std::abs(a.*member - b.*member));
   }
-  state.counters["cvode_steps"] = static_cast<double>(r.stats.steps);
-  state.counters["rhs_evals"] = static_cast<double>(r.stats.rhs_evals);
-  state.counters["root_evals"] = static_cast<double>(r.stats.root_evals);
+  return dev;
 }
-BENCHMARK(BM_BaselineMove)->Unit(benchmark::kMillisecond);
 
-// Cost against accuracy: the baseline move at rtol 10^-k (atol 10^-(k+3) m), k = state.range(0).
-// max_dev_um is the largest change of the four parameters against rtol 1e-10 / atol 1e-13 m, so
-// one run shows what each tolerance costs and buys.
-void BM_BaselineMoveTolerance(benchmark::State& state) {
-  const int k = static_cast<int>(state.range(0));
+// CVODE at rtol 1e-10 / atol 1e-13 m: the reference every accuracy counter is measured against.
+dynamics::SimulationResult reference_baseline() {
   dynamics::SimulationOptions tight;
+  tight.integration = dynamics::Integration::kCvode;
   tight.integrator.relative_tolerance = 1e-10;
   tight.integrator.absolute_tolerance = 1e-13;
-  const auto reference = dynamics::BridgeSimulator(dynamics::default_machine(), tight)
-                             .simulate(motion::baseline_move(), 0.25);
-  dynamics::SimulationOptions options;
-  options.integrator.relative_tolerance = std::pow(10.0, -k);
-  options.integrator.absolute_tolerance = std::pow(10.0, -(k + 3));
+  return dynamics::BridgeSimulator(dynamics::default_machine(), tight)
+      .simulate(motion::baseline_move(), 0.25);
+}
+
+void report_work(benchmark::State& state, const dynamics::SimulationResult& r) {
+  state.counters["steps"] = static_cast<double>(r.stats.steps);
+  state.counters["rhs_evals"] = static_cast<double>(r.stats.rhs_evals);
+  state.counters["root_evals"] = static_cast<double>(r.stats.root_evals);
+  state.counters["expm"] = static_cast<double>(r.stats.matrix_exponentials);
+}
+
+/// Times the baseline move with `options` and reports its work and its distance to the
+/// reference (max_dev_um, against CVODE at rtol 1e-10).
+void time_baseline(benchmark::State& state, const dynamics::SimulationOptions& options) {
+  const auto reference = reference_baseline();
   dynamics::BridgeSimulator sim(dynamics::default_machine(), options);
   dynamics::SimulationResult r;
   for (auto _ : state) {
     r = sim.simulate(motion::baseline_move(), 0.25);
     benchmark::DoNotOptimize(r.errors_um);
   }
-  double dev = 0.0;
-  for (const auto member : {&errors::DynamicErrors::mpe,
-                            &errors::DynamicErrors::rpe,
-                            &errors::DynamicErrors::mae,
-                            &errors::DynamicErrors::rae}) {
-    dev = std::max(dev, std::abs(r.errors_um.*member - reference.errors_um.*member));
-  }
-  state.counters["cvode_steps"] = static_cast<double>(r.stats.steps);
-  state.counters["rhs_evals"] = static_cast<double>(r.stats.rhs_evals);
-  state.counters["max_dev_um"] = dev;
+  report_work(state, r);
+  state.counters["max_dev_um"] = max_deviation(r.errors_um, reference.errors_um);
+}
+
+// One baseline move (PV 40, PD 40, AV 12, AD 10, Y 250) on one core with the default options
+// (the exponential integrator).
+void BM_BaselineMove(benchmark::State& state) { time_baseline(state, {}); }
+BENCHMARK(BM_BaselineMove)->Unit(benchmark::kMillisecond);
+
+// The same move with CVODE at its default tolerances (Integration::kCvode): the ratio to
+// BM_BaselineMove in one run is the exponential integrator's speed-up.
+void BM_BaselineMoveCvode(benchmark::State& state) {
+  dynamics::SimulationOptions options;
+  options.integration = dynamics::Integration::kCvode;
+  time_baseline(state, options);
+}
+BENCHMARK(BM_BaselineMoveCvode)->Unit(benchmark::kMillisecond);
+
+// Cost against accuracy of the exponential integrator: the baseline move with a longest step of
+// state.range(0) µs.
+void BM_BaselineMoveExponentialStep(benchmark::State& state) {
+  dynamics::SimulationOptions options;
+  options.exponential_max_step_s = static_cast<double>(state.range(0)) * 1e-6;
+  time_baseline(state, options);
+}
+BENCHMARK(BM_BaselineMoveExponentialStep)
+    ->Arg(250)
+    ->Arg(500)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Arg(4000)
+    ->Unit(benchmark::kMillisecond);
+
+// Cost against accuracy: the baseline move at rtol 10^-k (atol 10^-(k+3) m), k = state.range(0).
+// max_dev_um is the largest change of the four parameters against rtol 1e-10 / atol 1e-13 m, so
+// one run shows what each tolerance costs and buys.
+void BM_BaselineMoveTolerance(benchmark::State& state) {
+  const int k = static_cast<int>(state.range(0));
+  dynamics::SimulationOptions options;
+  options.integration = dynamics::Integration::kCvode;
+  options.integrator.relative_tolerance = std::pow(10.0, -k);
+  options.integrator.absolute_tolerance = std::pow(10.0, -(k + 3));
+  time_baseline(state, options);
 }
 BENCHMARK(BM_BaselineMoveTolerance)->DenseRange(5, 8)->Unit(benchmark::kMillisecond);
 
@@ -67,8 +106,7 @@ void BM_FastMove(benchmark::State& state) {
     r = sim.simulate(m, 0.25);
     benchmark::DoNotOptimize(r.errors_um);
   }
-  state.counters["cvode_steps"] = static_cast<double>(r.stats.steps);
-  state.counters["rhs_evals"] = static_cast<double>(r.stats.rhs_evals);
+  report_work(state, r);
 }
 BENCHMARK(BM_FastMove)->Unit(benchmark::kMillisecond);
 

@@ -9,66 +9,16 @@
 #include <cmmcomp/exceptions.hpp>
 #include <string>
 
+#include "bridge_equations.hpp"
+#include "exponential_integrator.hpp"
+
 namespace cmmcomp::dynamics {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxCarriageY = 2.0;  // [m]
 
-// State layout (docs/machine-model.md). Deflections are lags: positive = behind the drive.
-enum : int {
-  kServoError = 0,  // ε = x_scale − x_commanded [m]
-  kServoRate,
-  kMode,  // η: modal coordinate, the tip's lag at Y = 0 [m]
-  kModeRate,
-  kHoseInner,     // w: the hose link's first stage [m/s]
-  kHoseVelocity,  // v_h: the hose's filtered velocity [m/s]
-  kStates
-};
+using namespace equations;
 static_assert(kStates == kBridgeStateCount);
-
-/// Coefficients that depend only on the machine and Y, computed once per move.
-struct Coefficients {
-  double omega2 = 0, two_zeta_omega = 0, ff_deficit = 0, inv_mass = 0, bearing_drag = 0;
-  double mode_omega2 = 0, mode_two_zeta_omega = 0;
-  double participation = 0;  // Γ: modal acceleration per drive acceleration
-  double drag_per_mass = 0;  // φ(Y) / m_modal: modal acceleration per N of hose drag
-  double inv_tau = 0;        // 1 / τ of the hose link
-  double lag_force = 0;      // N per m/s² of filtered acceleration (the delayed lag term)
-  double viscous = 0, coulomb = 0, inv_coulomb_speed = 0;
-  double phi = 1;  // mode shape at the tip, φ(Y)
-};
-
-Coefficients coefficients(const MachineParameters& p, double y) {
-  Coefficients c;
-  const double omega = 2.0 * kPi * p.servo_bandwidth_hz;
-  c.omega2 = omega * omega;
-  c.two_zeta_omega = 2.0 * p.servo_damping_ratio * omega;
-  c.ff_deficit = 1.0 - p.servo_feedforward_gain;
-  c.inv_mass = 1.0 / p.servo_moving_mass_kg;
-  c.bearing_drag = p.servo_bearing_drag_Ns_per_m;
-  const double w = 2.0 * kPi * p.mode_frequency_hz;
-  c.mode_omega2 = w * w;
-  c.mode_two_zeta_omega = 2.0 * p.mode_damping_ratio * w;
-  c.participation = p.mode_participation;
-  c.phi = mode_shape(p, y);
-  c.drag_per_mass = c.phi * c.mode_omega2 / p.mode_stiffness_N_per_m;  // φ / m_modal
-  c.inv_tau = 1.0 / p.hose_time_constant_s;
-  // The delayed lag is given as tip lag per m/s² at Y = 0; as a drag force it is k · lag.
-  c.lag_force = p.mode_stiffness_N_per_m * p.hose_accel_lag_s2;
-  c.viscous = p.hose_viscous_drag_Ns_per_m;
-  c.coulomb = p.hose_coulomb_drag_N;
-  c.inv_coulomb_speed = 1.0 / p.hose_coulomb_speed_m_per_s;
-  return c;
-}
-
-/// The hose drag on the carriage [N] from the link's state: its filtered acceleration
-/// (w − v_h)/τ, its velocity v_h.
-double hose_drag(const Coefficients& c, const double* y) noexcept {
-  const double v_h = y[kHoseVelocity];
-  const double a_h = (y[kHoseInner] - v_h) * c.inv_tau;
-  return c.lag_force * a_h + c.viscous * v_h + c.coulomb * std::tanh(v_h * c.inv_coulomb_speed);
-}
 
 /// Per-state absolute tolerances such that each state's share of the tip error stays below
 /// `error_tol` [m]: states with a small lever on the tip may be integrated more loosely.
@@ -98,35 +48,6 @@ struct Forcing {
   motion::Segment segment;
 };
 
-/// Every state derivative. Returns the drive acceleration a.
-double derivatives(const Coefficients& c,
-                   const motion::MotionState& cmd,
-                   const double* y,
-                   double* dy) noexcept {
-  const double drag = hose_drag(c, y);
-  const double v = cmd.velocity + y[kServoRate];  // drive velocity
-  // Servo: PD loop with feed-forward; the hose drag and the bearings' drag disturb it.
-  const double eps_dd = -c.ff_deficit * cmd.acceleration - c.omega2 * y[kServoError] -
-                        c.two_zeta_omega * y[kServoRate] - (drag + c.bearing_drag * v) * c.inv_mass;
-  const double a = cmd.acceleration + eps_dd;  // drive acceleration
-  dy[kServoError] = y[kServoRate];
-  dy[kServoRate] = eps_dd;
-  // The structural mode: base-excited by the drive's acceleration, loaded by the hose drag.
-  dy[kMode] = y[kModeRate];
-  dy[kModeRate] = c.participation * a + c.drag_per_mass * drag - c.mode_omega2 * y[kMode] -
-                  c.mode_two_zeta_omega * y[kModeRate];
-  // The hose link: two equal first-order stages (critically damped) following the drive speed.
-  dy[kHoseInner] = (v - y[kHoseInner]) * c.inv_tau;
-  dy[kHoseVelocity] = (y[kHoseInner] - y[kHoseVelocity]) * c.inv_tau;
-  return a;
-}
-
-/// Raw error x_tip − x_scale [m] and its rate: the tip lags by φ(Y) η.
-double tip_error(const Coefficients& c, const double* y) noexcept { return -c.phi * y[kMode]; }
-double tip_error_rate(const Coefficients& c, const double* y) noexcept {
-  return -c.phi * y[kModeRate];
-}
-
 int rhs(double t, const double* y, double* dy, void* user) noexcept {
   const Forcing& f = *static_cast<const Forcing*>(user);
   derivatives(f.c, f.segment.at(t - f.segment.start_time), y, dy);
@@ -150,6 +71,10 @@ void accumulate(IntegratorStats& total, const IntegratorStats& s) {
 
 bool SimulationOptions::is_valid(std::string* why) const {
   if (!integrator.is_valid(why)) return false;
+  if (!(exponential_max_step_s >= 1e-6 && exponential_max_step_s <= 0.1)) {
+    if (why != nullptr) *why = "exponential_max_step_s must be in [1e-6, 0.1] s";
+    return false;
+  }
   if (!(trace_rate_hz >= 1.0 && trace_rate_hz <= 1e6)) {
     if (why != nullptr) *why = "trace_rate_hz must be in [1, 1e6]";
     return false;
@@ -229,42 +154,57 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
   };
   record(0.0, profile.sample(0.0));
 
-  for (int k = 0; k < profile.segment_count(); ++k) {
-    const motion::Segment& seg = profile.segment(k);
-    m.forcing.segment = seg;
-    const double t_end = seg.end_time();
-    if (!ok(m.integrator.reset(seg.start_time, y.data())) ||
-        !ok(m.integrator.set_stop_time(t_end))) {
-      throw Error(fmt::format("CVODE could not restart at t = {} s ({})",
-                              seg.start_time,
-                              m.integrator.last_flag_name()));
+  if (m.options.integration == Integration::kExponential) {
+    ExponentialIntegrator stepper(c, m.options.exponential_max_step_s);
+    const double trace_dt = m.options.record_trace ? dt : 0.0;
+    for (int k = 0; k < profile.segment_count(); ++k) {
+      const motion::Segment& seg = profile.segment(k);
+      stepper.advance(seg, y.data(), trace_dt, [&](double t, const double* state) {
+        if (state != y.data()) std::copy(state, state + kStates, y.begin());
+        record(t, seg.at(t - seg.start_time));
+      });
     }
-    // Output grid (only for a recorded trace): multiples of dt inside the segment. The
-    // parameters need no grid: the kinks are the phase instants and the root function stops
-    // at every extremum of the error.
-    double next = (std::floor(seg.start_time / dt + 1e-6) + 1.0) * dt;
-    if (next <= seg.start_time + 1e-6 * dt) next += dt;
-    double t = seg.start_time;
-    while (t < t_end) {
-      const double target = (m.options.record_trace && next < t_end) ? next : t_end;
-      bool root = false;
-      double reached = t;
-      if (!ok(m.integrator.advance_to(target, y.data(), &reached, &root))) {
-        throw Error(fmt::format("CVODE failed at t = {:.6f} s of a {:.6f} s move: {}",
-                                reached,
-                                touch,
+    result.stats.steps = stepper.steps();
+    result.stats.matrix_exponentials = stepper.matrix_exponentials();
+    result.stats.root_evals = stepper.extrema();
+  } else {
+    for (int k = 0; k < profile.segment_count(); ++k) {
+      const motion::Segment& seg = profile.segment(k);
+      m.forcing.segment = seg;
+      const double t_end = seg.end_time();
+      if (!ok(m.integrator.reset(seg.start_time, y.data())) ||
+          !ok(m.integrator.set_stop_time(t_end))) {
+        throw Error(fmt::format("CVODE could not restart at t = {} s ({})",
+                                seg.start_time,
                                 m.integrator.last_flag_name()));
       }
-      if (!(reached > t)) {
-        // Root exactly at the restart point: nothing new to record.
-        if (root) continue;
-        throw Error(fmt::format("CVODE made no progress at t = {:.6f} s", t));
+      // Output grid (only for a recorded trace): multiples of dt inside the segment. The
+      // parameters need no grid: the kinks are the phase instants and the root function stops
+      // at every extremum of the error.
+      double next = (std::floor(seg.start_time / dt + 1e-6) + 1.0) * dt;
+      if (next <= seg.start_time + 1e-6 * dt) next += dt;
+      double t = seg.start_time;
+      while (t < t_end) {
+        const double target = (m.options.record_trace && next < t_end) ? next : t_end;
+        bool root = false;
+        double reached = t;
+        if (!ok(m.integrator.advance_to(target, y.data(), &reached, &root))) {
+          throw Error(fmt::format("CVODE failed at t = {:.6f} s of a {:.6f} s move: {}",
+                                  reached,
+                                  touch,
+                                  m.integrator.last_flag_name()));
+        }
+        if (!(reached > t)) {
+          // Root exactly at the restart point: nothing new to record.
+          if (root) continue;
+          throw Error(fmt::format("CVODE made no progress at t = {:.6f} s", t));
+        }
+        t = reached;
+        record(t, seg.at(t - seg.start_time));
+        if (!root && t >= target) next += dt;
       }
-      t = reached;
-      record(t, seg.at(t - seg.start_time));
-      if (!root && t >= target) next += dt;
+      accumulate(result.stats, m.integrator.stats());
     }
-    accumulate(result.stats, m.integrator.stats());
   }
 
   const errors::TraceView view{times.data(), errs.data(), times.size()};

@@ -47,7 +47,10 @@ for spec in "${models[@]}"; do
   for attempt in $(seq 0 19); do
     if [ -n "$can" ]; then
       base=$(printf '0x%03X' $(( 0x300 + 16 * n )))
-      "$agent_bin" --can "$can" --can-base-id "$base" "${model_arg[@]}" >"$log" 2>&1 &
+      # 1 s between a request's parts, not the 50 ms default: a virtual bus in a UML guest on a
+      # loaded host can stall that long between frames the vc sends back to back.
+      "$agent_bin" --can "$can" --can-base-id "$base" --can-part-timeout-ms 1000 \
+        "${model_arg[@]}" >"$log" 2>&1 &
     else
       port=$(( 20000 + ($$ * 37 + n * 1009 + attempt * 131) % 25000 ))
       "$agent_bin" --modbus "tcp:127.0.0.1:$port" "${model_arg[@]}" >"$log" 2>&1 &

@@ -31,6 +31,7 @@ struct IntegratorStats {
   long rhs_evals = 0;   ///< right-hand-side evaluations (incl. those for Jacobians)
   long root_evals = 0;  ///< root-function evaluations
   long error_test_fails = 0;
+  long matrix_exponentials = 0;  ///< the exponential integrator's transition matrices
 };
 
 /// CVODE behind a plain function-pointer interface.

@@ -63,6 +63,9 @@ struct IdentificationOptions {
   int max_iterations = 50;  ///< Levenberg–Marquardt iterations
   int threads = 0;          ///< simulation threads (0 = all cores)
   double log_step = 1e-2;   ///< finite-difference step in log(parameter)
+  /// Simulate with CVODE (rtol 1e-6, 1e-10 m) instead of the exponential integrator (1 ms steps):
+  /// the path the shipped default machine was identified on (docs/machine-model.md, "Cost").
+  bool cvode = false;
   /// Called after each iteration: (iteration, cost).
   std::function<void(int, double)> progress;
 

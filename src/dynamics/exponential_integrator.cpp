@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: MIT
+/// @file The exponential integrator of the bridge model (exponential_integrator.hpp).
+#include "exponential_integrator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unsupported/Eigen/MatrixFunctions>
+
+namespace cmmcomp::dynamics {
+namespace {
+
+using namespace equations;
+
+constexpr int kVc = kStates;      // commanded velocity
+constexpr int kAc = kStates + 1;  // commanded acceleration
+constexpr int kJerk = kStates + 2;
+constexpr int kF0 = kStates + 3;  // Coulomb fraction at the step's start, then along its line
+constexpr int kF1 = kStates + 4;  // its slope over the step [1/s]
+
+/// Cubic Hermite interpolation at s ∈ [0, 1] of a step of length h.
+double hermite(double s, double h, double p0, double d0, double p1, double d1) noexcept {
+  const double s2 = s * s;
+  const double s3 = s2 * s;
+  return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * d0 + (-2 * s3 + 3 * s2) * p1 +
+         (s3 - s2) * h * d1;
+}
+
+/// The s ∈ (0, 1) where the cubic Hermite interpolant of (p0, d0) → (p1, d1) has zero slope,
+/// given that d0 and d1 have opposite signs (so exactly one such s exists).
+double hermite_stationary_point(double h, double p0, double d0, double p1, double d1) noexcept {
+  const double m0 = h * d0;
+  const double m1 = h * d1;
+  const double a = 3.0 * (2.0 * p0 + m0 - 2.0 * p1 + m1);  // slope = a s² + b s + m0
+  const double b = 2.0 * (-3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1);
+  double s = 0.5;
+  if (std::abs(a) < 1e-14 * (std::abs(b) + std::abs(m0))) {
+    s = -m0 / b;  // the slope is linear
+  } else {
+    const double disc = std::max(0.0, b * b - 4.0 * a * m0);
+    const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+    const double r1 = q / a;
+    const double r2 = q != 0.0 ? m0 / q : r1;
+    s = (r1 > 0.0 && r1 < 1.0) ? r1 : r2;
+  }
+  return std::clamp(s, 0.0, 1.0);
+}
+
+}  // namespace
+
+ExponentialIntegrator::ExponentialIntegrator(const Coefficients& c, double max_step_s)
+    : c_(c), max_step_(max_step_s) {
+  // M's columns are the right-hand side's response to each augmented state alone: the equations
+  // stay written once (bridge_equations.hpp), linear once the Coulomb fraction is a state.
+  m_.setZero();
+  double dy[kStates];
+  auto column = [&](int col, const motion::MotionState& cmd, const double* y, double f) {
+    derivatives_given_coulomb(c_, cmd, y, f, dy);
+    for (int r = 0; r < kStates; ++r) m_(r, col) = dy[r];
+  };
+  const motion::MotionState rest{};
+  for (int i = 0; i < kStates; ++i) {
+    double y[kStates] = {};
+    y[i] = 1.0;
+    column(i, rest, y, 0.0);
+  }
+  const double zero[kStates] = {};
+  column(kVc, motion::MotionState{0.0, 1.0, 0.0, 0.0}, zero, 0.0);
+  column(kAc, motion::MotionState{0.0, 0.0, 1.0, 0.0}, zero, 0.0);
+  column(kF0, rest, zero, 1.0);
+  m_(kVc, kAc) = 1.0;    // v_c' = a_c
+  m_(kAc, kJerk) = 1.0;  // a_c' = jerk
+  m_(kF0, kF1) = 1.0;    // f' = f₁ along the step
+}
+
+const ExponentialIntegrator::Matrix& ExponentialIntegrator::transition(double h) {
+  for (const Cached& slot : cache_) {
+    if (slot.h == h) return slot.phi;
+  }
+  Cached& slot = cache_[static_cast<std::size_t>(next_slot_)];
+  next_slot_ = (next_slot_ + 1) % static_cast<int>(cache_.size());
+  slot.phi = (m_ * h).exp();
+  slot.h = h;
+  ++exponentials_;
+  return slot.phi;
+}
+
+void ExponentialIntegrator::advance(const motion::Segment& segment,
+                                    double* y,
+                                    double trace_dt,
+                                    const Sink& sink) {
+  if (!(segment.duration > 0.0)) return;
+  const double n_steps = std::max(1.0, std::ceil(segment.duration / max_step_ - 1e-9));
+  const double h = segment.duration / n_steps;
+  const Matrix& phi = transition(h);
+  const long n = static_cast<long>(n_steps);
+
+  Vector z;
+  for (int i = 0; i < kStates; ++i) z[i] = y[i];
+  z[kVc] = segment.v0;
+  z[kAc] = segment.a0;
+  z[kJerk] = segment.jerk;
+  double next_grid = trace_dt > 0.0 ? (std::floor(segment.start_time / trace_dt) + 1.0) * trace_dt
+                                    : segment.end_time() + 1.0;
+
+  struct Interior {
+    double t;
+    double s;
+  };
+  std::array<Interior, 64> interior{};
+  for (long k = 0; k < n; ++k) {
+    const double t0 = segment.start_time + static_cast<double>(k) * h;
+    const double t1 = k + 1 == n ? segment.end_time() : t0 + h;
+    // The Coulomb fraction as a line over the step: its value and its rate at the step start.
+    const double v_h = z[kHoseVelocity];
+    const double f = coulomb_fraction(c_, v_h);
+    z[kF0] = f;
+    z[kF1] = (1.0 - f * f) * c_.inv_coulomb_speed * (z[kHoseInner] - v_h) * c_.inv_tau;
+    const Vector z0 = z;
+    z = phi * z0;
+    ++steps_;
+
+    // Interior samples: an extremum of the tip error (de/dt = −φ η̇ changes sign) and the
+    // trace grid.
+    std::size_t count = 0;
+    const double d0 = z0[kModeRate];
+    const double d1 = z[kModeRate];
+    if ((d0 > 0.0 && d1 < 0.0) || (d0 < 0.0 && d1 > 0.0)) {
+      const double s = hermite_stationary_point(h, z0[kMode], d0, z[kMode], d1);
+      if (s > 0.0 && s < 1.0) {
+        interior[count++] = {t0 + s * h, s};
+        ++extrema_;
+      }
+    }
+    while (next_grid < t1 - 1e-9 * h && count < interior.size()) {
+      if (next_grid > t0 + 1e-9 * h) interior[count++] = {next_grid, (next_grid - t0) / h};
+      next_grid += trace_dt;
+    }
+    if (count > 0) {
+      std::sort(interior.begin(),
+                interior.begin() + static_cast<std::ptrdiff_t>(count),
+                [](const Interior& a, const Interior& b) { return a.t < b.t; });
+      // Every state by cubic Hermite from the exact values and rates at both ends.
+      double dy0[kStates];
+      double dy1[kStates];
+      const motion::MotionState cmd0{0.0, z0[kVc], z0[kAc], z0[kJerk]};
+      const motion::MotionState cmd1{0.0, z[kVc], z[kAc], z[kJerk]};
+      derivatives(c_, cmd0, z0.data(), dy0);
+      derivatives(c_, cmd1, z.data(), dy1);
+      for (std::size_t i = 0; i < count; ++i) {
+        double yi[kStates];
+        for (int j = 0; j < kStates; ++j) {
+          yi[j] = hermite(interior[i].s, h, z0[j], dy0[j], z[j], dy1[j]);
+        }
+        sink(interior[i].t, yi);
+      }
+    }
+    for (int i = 0; i < kStates; ++i) y[i] = z[i];
+    sink(t1, y);
+  }
+}
+
+}  // namespace cmmcomp::dynamics
