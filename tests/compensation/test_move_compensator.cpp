@@ -431,6 +431,28 @@ TEST(MoveCompensatorInterval, GrowsOutsideTheDomainUnderEitherPolicy) {
   }
 }
 
+// Any finite input gives a finite interval: the distance counts each input's excess up to
+// kMaxRangesOutside ranges, the half-width is bounded by kMaxHalfWidth (a 1e200 input used to
+// overflow the distance to inf, and 0 · inf gave NaN where a gain is 0).
+TEST(MoveCompensatorInterval, FarOutsideTheDomainTheIntervalStaysFinite) {
+  const std::array<fuzzy::InputRange, 2> ranges{{{5.0, 80.0}, {-1.0, 1.0}}};
+  for (const double x : {1e200, -1e300, std::numeric_limits<double>::max()}) {
+    const double d = fuzzy::domain_distance(ranges, std::array<double, 2>{x, x});
+    EXPECT_TRUE(std::isfinite(d)) << x;
+    EXPECT_NEAR(d, std::sqrt(2.0) * fuzzy::kMaxRangesOutside, 1e-6 * fuzzy::kMaxRangesOutside);
+    IntervalCalibration cal = test_interval();
+    cal.extrapolation_gain[1] = 1e300;
+    std::array<double, 4> u{};
+    fuzzy::interval_half_widths(cal, d, u);
+    for (std::size_t o = 0; o < 4; ++o) {
+      EXPECT_TRUE(std::isfinite(u[o])) << o;
+      EXPECT_LE(u[o], fuzzy::kMaxHalfWidth) << o;
+    }
+    EXPECT_EQ(u[0], cal.half_width[0]);  // gain 0: the in-domain half-width, not NaN
+    EXPECT_EQ(u[1], fuzzy::kMaxHalfWidth);
+  }
+}
+
 TEST(MoveCompensatorInterval, AnInvalidCalibrationIsRefusedAndTheOldModelServes) {
   MoveCompensator comp;
   ASSERT_EQ(comp.publish(0, linear_model({0, 0, 0, 1.0}, {0, 0, 0, 0}), test_interval(), 1u),

@@ -51,9 +51,18 @@ struct IntervalCalibration {
   constexpr bool operator!=(const IntervalCalibration& o) const noexcept { return !(*this == o); }
 };
 
+/// Each input's excess over its training box counts at most this many training ranges, so the
+/// distance and the interval stay finite for any finite input (an input 1e200 ranges out would
+/// otherwise overflow the sum of squares to inf, and 0 · inf to NaN where a gain is 0).
+inline constexpr double kMaxRangesOutside = 1e6;
+/// The largest half-width reported [output units]: a bound far above any physical error, so a
+/// huge gain times a capped distance cannot overflow either.
+inline constexpr double kMaxHalfWidth = 1e12;
+
 /// Distance of the raw input `x` from the box of `ranges`, each input in units of its range
-/// (hi − lo): sqrt(Σ_i max(lo_i − x_i, x_i − hi_i, 0)²/(hi_i − lo_i)²); 0 inside. RT-safe.
-/// Precondition: every range valid (lo < hi, finite) and x finite.
+/// (hi − lo), each excess capped at kMaxRangesOutside:
+/// sqrt(Σ_i min(max(lo_i − x_i, x_i − hi_i, 0)/(hi_i − lo_i), kMaxRangesOutside)²); 0 inside.
+/// RT-safe. Precondition: every range valid (lo < hi, finite) and x finite.
 template <std::size_t kInputs>
 inline double domain_distance(const std::array<InputRange, kInputs>& ranges,
                               const std::array<double, kInputs>& x) noexcept {
@@ -63,7 +72,8 @@ inline double domain_distance(const std::array<InputRange, kInputs>& ranges,
     const double below = r.lo - x[i];
     const double above = x[i] - r.hi;
     const double excess = below > 0.0 ? below : (above > 0.0 ? above : 0.0);
-    const double e = excess / (r.hi - r.lo);
+    const double ranges_out = excess / (r.hi - r.lo);
+    const double e = ranges_out < kMaxRangesOutside ? ranges_out : kMaxRangesOutside;
     sum += e * e;
   }
   return std::sqrt(sum);
@@ -77,7 +87,9 @@ inline void interval_half_widths(
     double distance,
     std::array<double, static_cast<std::size_t>(kOutputs)>& u) noexcept {
   for (std::size_t o = 0; o < u.size(); ++o) {
-    u[o] = cal.available() ? cal.half_width[o] * (1.0 + cal.extrapolation_gain[o] * distance) : 0.0;
+    const double w =
+        cal.available() ? cal.half_width[o] * (1.0 + cal.extrapolation_gain[o] * distance) : 0.0;
+    u[o] = w < kMaxHalfWidth ? w : kMaxHalfWidth;  // also maps an overflow to the bound
   }
 }
 
