@@ -46,6 +46,9 @@ extern "C" {
 #define CMMCOMP_FLAG_OUTSIDE_DOMAIN 0x2u /**< input outside the training ranges; clamped */
 #define CMMCOMP_FLAG_INVALID_INPUT 0x4u  /**< request rejected (never set in a written output) */
 #define CMMCOMP_FLAG_NO_MODEL 0x8u       /**< no model (never set in a written output) */
+/** The model carries no interval calibration: cmmcomp_interval.u95_um is 0 and means
+ * "unknown". Set only in cmmcomp_interval.flags (cmmcomp_correction keeps the bits above). */
+#define CMMCOMP_FLAG_NO_UNCERTAINTY 0x10u
 
 /** Return codes: 0 = ok, negative = error. The RT codes equal cmmcomp::Status values. */
 #define CMMCOMP_OK 0
@@ -86,6 +89,14 @@ typedef struct cmmcomp_correction {
   uint64_t model_id;       /**< first 16 hex digits of the model file's SHA-256 checksum */
 } cmmcomp_correction;
 
+/** The 95 % prediction interval of one correction (docs/uncertainty.md): the true error lies
+ * within the predicted one +- u95_um with 95 % probability, given the model and this move. */
+typedef struct cmmcomp_interval {
+  double u95_um[4];  /**< half-widths for MPE, RPE, MAE, RAE [um], >= 0 and finite; 0 = unknown */
+  uint32_t flags;    /**< the correction's CMMCOMP_FLAG_* bits, CMMCOMP_FLAG_NO_UNCERTAINTY too */
+  uint32_t reserved; /**< 0 */
+} cmmcomp_interval;
+
 /** Opaque compensator. */
 typedef struct cmmcomp_compensator cmmcomp_compensator;
 
@@ -118,6 +129,14 @@ CMMCOMP_CAPI_EXPORT int cmmcomp_reload_from_memory(cmmcomp_compensator* c,
 CMMCOMP_CAPI_EXPORT int cmmcomp_before_approach(const cmmcomp_compensator* c,
                                                 const cmmcomp_move_request* in,
                                                 cmmcomp_correction* out);
+/** As cmmcomp_before_approach, and also fills `interval` with the correction's 95 %
+ * prediction interval. An addition, so CMMCOMP_ABI_VERSION stays 1: callers of
+ * cmmcomp_before_approach and its struct are unaffected. `out` and `interval` are untouched on
+ * error. RT-safe and wait-free. */
+CMMCOMP_CAPI_EXPORT int cmmcomp_before_approach_with_interval(const cmmcomp_compensator* c,
+                                                              const cmmcomp_move_request* in,
+                                                              cmmcomp_correction* out,
+                                                              cmmcomp_interval* interval);
 /** Destroys `c` (null is ignored). No other call on `c` may be running. Setup only. */
 CMMCOMP_CAPI_EXPORT void cmmcomp_destroy(cmmcomp_compensator* c);
 /** Static description of a return code; never null. RT-safe. */

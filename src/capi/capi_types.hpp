@@ -22,8 +22,12 @@ static_assert(CMMCOMP_E_BUSY == static_cast<int>(Status::kBusy), "codes");
 static_assert(CMMCOMP_FLAG_OK == compensation::kFlagOk &&
                   CMMCOMP_FLAG_OUTSIDE_DOMAIN == compensation::kFlagOutsideDomain &&
                   CMMCOMP_FLAG_INVALID_INPUT == compensation::kFlagInvalidInput &&
-                  CMMCOMP_FLAG_NO_MODEL == compensation::kFlagNoModel,
+                  CMMCOMP_FLAG_NO_MODEL == compensation::kFlagNoModel &&
+                  CMMCOMP_FLAG_NO_UNCERTAINTY == compensation::kFlagNoUncertainty,
               "flags");
+static_assert(sizeof(cmmcomp_interval) == 4 * sizeof(double) + 2 * sizeof(std::uint32_t),
+              "cmmcomp_interval has no padding: its layout is the ABI");
+static_assert(offsetof(cmmcomp_interval, flags) == 4 * sizeof(double), "interval layout");
 
 /// The core's request for `in`; the caller has checked in.axis < CMMCOMP_MAX_AXES.
 inline compensation::MoveRequest to_move_request(const cmmcomp_move_request& in) noexcept {
@@ -53,6 +57,13 @@ inline void write_correction(const compensation::Correction& r, cmmcomp_correcti
   out.flags = r.flags & compensation::kFlagsVersion1;
   out.sequence = r.sequence;
   out.model_id = r.model_id;
+}
+
+/// Writes the interval of the core's correction `r` into `out`: every flag, U95 as computed.
+inline void write_interval(const compensation::Correction& r, cmmcomp_interval& out) noexcept {
+  for (std::size_t k = 0; k < 4; ++k) out.u95_um[k] = r.u95_um[k];
+  out.flags = r.flags;
+  out.reserved = 0;
 }
 
 }  // namespace cmmcomp::capi

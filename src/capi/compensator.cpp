@@ -151,6 +151,22 @@ int cmmcomp_before_approach(const cmmcomp_compensator* c,
   return CMMCOMP_OK;
 }
 
+int cmmcomp_before_approach_with_interval(const cmmcomp_compensator* c,
+                                          const cmmcomp_move_request* in,
+                                          cmmcomp_correction* out,
+                                          cmmcomp_interval* interval) {
+  if (c == nullptr || in == nullptr || out == nullptr || interval == nullptr) {
+    return CMMCOMP_E_ARGUMENT;
+  }
+  if (in->axis >= CMMCOMP_MAX_AXES) return CMMCOMP_E_INVALID_INPUT;
+  cm::Correction r;
+  const cmmcomp::Status s = c->compensator.before_approach(cmmcomp::capi::to_move_request(*in), r);
+  if (!cmmcomp::ok(s)) return static_cast<int>(s);
+  cmmcomp::capi::write_correction(r, *out);
+  cmmcomp::capi::write_interval(r, *interval);
+  return CMMCOMP_OK;
+}
+
 void cmmcomp_destroy(cmmcomp_compensator* c) { delete c; }
 
 const char* cmmcomp_strerror(int code) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file Test fixture: writes the model files test_capi.c loads (usage: make_capi_models DIR).
-///   DIR/model_a.json  every rule y = c + k·x̂_PV, c = (3, −1.25, 4, 2.5), k = (1, 0.5, 0, 2)
-///   DIR/model_b.json  constant outputs (1, 1, 1, −0.5)
+///   DIR/model_a.json  every rule y = c + k·x̂_PV, c = (3, −1.25, 4, 2.5), k = (1, 0.5, 0, 2);
+///                     a 95 % interval: half-widths (2, 1.5, 1, 0.5) µm, gains (0, 1, 2, 0.25)
+///   DIR/model_b.json  constant outputs (1, 1, 1, −0.5), no interval calibration
 /// Input ranges: PV [5, 80] mm/s, PD [1, 50] mm, AV [1, 10] mm/s, AD [0.5, 5] mm.
 #include <array>
 #include <cmmcomp/io/compensation_model_file.hpp>
@@ -47,8 +48,13 @@ int main(int argc, char** argv) {
   }
   try {
     const std::string dir = argv[1];
-    const std::string a = cmmcomp::io::save_model_file(
-        dir + "/model_a.json", linear_file({3.0, -1.25, 4.0, 2.5}, {1.0, 0.5, 0.0, 2.0}));
+    auto file_a = linear_file({3.0, -1.25, 4.0, 2.5}, {1.0, 0.5, 0.0, 2.0});
+    file_a.interval.coverage = 0.95;
+    file_a.interval.half_width = {2.0, 1.5, 1.0, 0.5};
+    file_a.interval.extrapolation_gain = {0.0, 1.0, 2.0, 0.25};
+    file_a.interval_method = "hand-built test calibration";
+    file_a.interval_samples = 1;
+    const std::string a = cmmcomp::io::save_model_file(dir + "/model_a.json", file_a);
     const std::string b = cmmcomp::io::save_model_file(
         dir + "/model_b.json", linear_file({1.0, 1.0, 1.0, -0.5}, {0.0, 0.0, 0.0, 0.0}));
     std::printf("make_capi_models: model_a %s, model_b %s\n", a.c_str(), b.c_str());

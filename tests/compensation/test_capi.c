@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /** @file The C ABI from C99 (usage: test_capi DIR, DIR holding make_capi_models' output):
- * create from file and memory, before_approach numbers and signs, error codes, hot reload that
- * keeps the old model on failure, destroy. Exits 0 when every check passes. */
+ * create from file and memory, before_approach numbers and signs, the 95 % interval
+ * (before_approach_with_interval), error codes, hot reload that keeps the old model on failure,
+ * destroy. Exits 0 when every check passes. */
 #include <cmmcomp/compensator.h>
 #include <math.h>
 #include <stdio.h>
@@ -63,6 +64,9 @@ int main(int argc, char** argv) {
   cmmcomp_move_request r;
   cmmcomp_correction out;
   cmmcomp_correction kept;
+  cmmcomp_correction with_interval;
+  cmmcomp_interval interval;
+  cmmcomp_interval kept_interval;
   uint64_t id_a = 0;
   char* text_b = NULL;
   size_t size_b = 0;
@@ -106,11 +110,30 @@ int main(int argc, char** argv) {
   CHECK(out.model_id != 0u);
   id_a = out.model_id;
 
-  /* Outside the training domain: clamped (PV 200 -> 80, x = 1), flagged. */
+  /* The same request with its 95 % interval: the same correction, byte for byte, and U95 =
+   * the calibrated half-widths inside the domain. */
+  memset(&with_interval, 0xff, sizeof with_interval);
+  CHECK(cmmcomp_before_approach_with_interval(c, &r, &with_interval, &interval) == CMMCOMP_OK);
+  CHECK(memcmp(&with_interval, &out, sizeof out) == 0);
+  CHECK_NEAR(interval.u95_um[0], 2.0);
+  CHECK_NEAR(interval.u95_um[1], 1.5);
+  CHECK_NEAR(interval.u95_um[2], 1.0);
+  CHECK_NEAR(interval.u95_um[3], 0.5);
+  CHECK(interval.flags == CMMCOMP_FLAG_OK);
+  CHECK(interval.reserved == 0u);
+
+  /* Outside the training domain: clamped (PV 200 -> 80, x = 1), flagged; the interval grows
+   * with the distance d = (200 - 80)/75 = 1.6 ranges: U = h (1 + g d). */
   r = request(200.0);
   CHECK(cmmcomp_before_approach(c, &r, &out) == CMMCOMP_OK);
   CHECK(out.flags == (CMMCOMP_FLAG_OK | CMMCOMP_FLAG_OUTSIDE_DOMAIN));
   CHECK_NEAR(out.rae_um, 4.5);
+  CHECK(cmmcomp_before_approach_with_interval(c, &r, &with_interval, &interval) == CMMCOMP_OK);
+  CHECK(interval.flags == (CMMCOMP_FLAG_OK | CMMCOMP_FLAG_OUTSIDE_DOMAIN));
+  CHECK_NEAR(interval.u95_um[0], 2.0);
+  CHECK_NEAR(interval.u95_um[1], 1.5 * (1.0 + 1.6));
+  CHECK_NEAR(interval.u95_um[2], 1.0 * (1.0 + 2.0 * 1.6));
+  CHECK_NEAR(interval.u95_um[3], 0.5 * (1.0 + 0.25 * 1.6));
 
   /* Invalid requests: error code, output untouched. */
   r = request(42.5);
@@ -131,6 +154,16 @@ int main(int argc, char** argv) {
   CHECK(cmmcomp_before_approach(c, NULL, &out) == CMMCOMP_E_ARGUMENT);
   CHECK(cmmcomp_before_approach(c, &r, NULL) == CMMCOMP_E_ARGUMENT);
   CHECK(memcmp(&out, &kept, sizeof out) == 0);
+  /* The interval variant: the same codes, both outputs untouched. */
+  kept_interval = interval;
+  r.pv_mm_s = nan("");
+  CHECK(cmmcomp_before_approach_with_interval(c, &r, &out, &interval) == CMMCOMP_E_INVALID_INPUT);
+  r = request(42.5);
+  CHECK(cmmcomp_before_approach_with_interval(c, &r, &out, NULL) == CMMCOMP_E_ARGUMENT);
+  CHECK(cmmcomp_before_approach_with_interval(c, &r, NULL, &interval) == CMMCOMP_E_ARGUMENT);
+  CHECK(cmmcomp_before_approach_with_interval(NULL, &r, &out, &interval) == CMMCOMP_E_ARGUMENT);
+  CHECK(memcmp(&out, &kept, sizeof out) == 0);
+  CHECK(memcmp(&interval, &kept_interval, sizeof interval) == 0);
 
   /* Reload failures keep model A serving. */
   CHECK(cmmcomp_reload_from_file(c, "/nonexistent/model.json") == CMMCOMP_E_IO);
@@ -150,6 +183,12 @@ int main(int argc, char** argv) {
     CHECK_NEAR(out.rae_um, -0.5);
     CHECK_NEAR(out.correction_um[2], 0.5);
     CHECK(out.model_id != id_a);
+    /* Model B has no interval calibration: U95 reads 0, flagged as unknown (not as exact). */
+    CHECK(cmmcomp_before_approach_with_interval(c, &r, &out, &interval) == CMMCOMP_OK);
+    CHECK(interval.flags == (CMMCOMP_FLAG_OK | CMMCOMP_FLAG_NO_UNCERTAINTY));
+    CHECK(out.flags == CMMCOMP_FLAG_OK);
+    CHECK(interval.u95_um[0] == 0.0 && interval.u95_um[1] == 0.0 && interval.u95_um[2] == 0.0 &&
+          interval.u95_um[3] == 0.0);
     CHECK(cmmcomp_create_from_memory(text_b, size_b, &other) == CMMCOMP_OK);
     cmmcomp_destroy(other);
     free(text_b);
