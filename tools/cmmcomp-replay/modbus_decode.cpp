@@ -89,7 +89,7 @@ void add_typed(std::vector<FieldValue>& out,
 }
 
 /// Appends the registers `first` .. `first + count` - 1 stored from byte `at` of `b`, by name.
-/// `holding`: the holding-register space (request block, then the result copy).
+/// `holding`: the holding-register space (request block, then the result and interval copies).
 void add_registers(std::vector<FieldValue>& out,
                    const std::vector<std::uint8_t>& b,
                    std::size_t at,
@@ -99,9 +99,13 @@ void add_registers(std::vector<FieldValue>& out,
   const std::uint32_t end = first + count;
   std::uint32_t r = first;
   while (r < end && at + 2 <= b.size()) {
-    // Holding registers 25 .. 47 are a copy of input registers 1 .. 23 (the result block).
+    // Holding registers 25 .. 47 are a copy of input registers 1 .. 23 (the result block), and
+    // 48 .. 57 of input registers 52 .. 61 (the interval block, protocol version 2).
     const bool request_space = holding && r < map::kRequestCount;
-    const std::uint32_t input_reg = holding ? r - map::kResultCopy + map::kResultSequence : r;
+    const std::uint32_t input_reg = !holding ? r
+                                    : r < map::kIntervalCopy
+                                        ? r - map::kResultCopy + map::kResultSequence
+                                        : r - map::kIntervalCopy + map::kIntervalFlags;
     const Field* match = nullptr;
     if (request_space) {
       for (const Field& f : map::kHoldingFields) {

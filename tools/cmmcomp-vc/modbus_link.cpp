@@ -68,16 +68,14 @@ Answer ModbusLink::ask(const compensation::MoveRequest& move) {
   m.sequence = ++sequence_;
   map::HoldingRegisters h{};
   map::encode_request(m, h);
-  std::array<std::uint16_t, map::kResultWords> copy{};
-  const int got = modbus_write_and_read_registers(impl_->ctx,
-                                                  0,
-                                                  map::kRequestCount,
-                                                  h.data(),
-                                                  map::kResultCopy,
-                                                  map::kResultWords,
-                                                  copy.data());
+  // One FC23: write the request, read its result and interval (holding 25-57, protocol
+  // version 2: docs/protocol-modbus.md).
+  constexpr int kWords = map::kResultWords + map::kIntervalWords;
+  std::array<std::uint16_t, kWords> copy{};
+  const int got = modbus_write_and_read_registers(
+      impl_->ctx, 0, map::kRequestCount, h.data(), map::kResultCopy, kWords, copy.data());
   Answer a;
-  if (got != map::kResultWords) {
+  if (got != kWords) {
     const int e = errno;
     if (got < 0 && e > MODBUS_ENOBASE && e < MODBUS_ENOBASE + 0x20) {
       // An exception answer: the agent refused the request; the controller probes on.
@@ -89,13 +87,16 @@ Answer ModbusLink::ask(const compensation::MoveRequest& move) {
                 "): " + (got < 0 ? std::string(modbus_strerror(e)) : "short answer"));
   }
   map::InputRegisters in{};
-  std::copy(copy.begin(), copy.end(), in.begin() + map::kResultSequence);
+  std::copy(copy.begin(), copy.begin() + map::kResultWords, in.begin() + map::kResultSequence);
+  std::copy(copy.begin() + map::kResultWords, copy.end(), in.begin() + map::kIntervalFlags);
   const map::Result r = map::decode_result(in);
   a.status = r.status;
   a.flags = r.flags;
   a.rae_um = r.rae_um;
   a.correction_um = r.correction_um;
   a.model_id = r.model_id;
+  a.u95_um = r.u95_um;
+  a.interval_flags = r.interval_flags;
   if (r.sequence != m.sequence) {
     a.note = "sequence mismatch";
   } else if ((r.flags & compensation::kFlagOk) == 0) {

@@ -71,6 +71,11 @@ request() {
 request 7 0 0.6 0 -0.8 42.5 200 20 5 50 2 250 -100
 check_values "$(mb -r 1 -c 4 -t 3)" 7 0 1 0                  # sequence, status, flags, axis
 check_values "$(mb -B -r 6 -c 7 -t 3:float)" 11 -1.5 5 2 1.2 0 -1.6
+# Protocol version 2; the interval block: the test model has no calibration, so interval_flags
+# is OK | NO_UNCERTAINTY (0x11 = 17) and every U95 reads 0 (unknown).
+check_values "$(mb -r 0 -c 1 -t 3)" 2
+check_values "$(mb -r 52 -c 2 -t 3)" 17 0
+check_values "$(mb -B -r 54 -c 4 -t 3:float)" 0 0 0 0
 echo "worked example: ok"
 
 # 2. PV 20 (x = 0.2), d = (0, 0, -1): MPE 10.4, RPE -1.8, MAE 4.4, RAE 1.7, correction (0, 0, -1.7).
@@ -85,7 +90,7 @@ check_values "$(mb -r 1 -c 4 -t 3)" 9 -101 8 2
 echo "no model: ok"
 
 # 4. Exception 02 (illegal address) and 03 (negative PV); the last result stays.
-if out=$(mb -r 60 -c 1 -t 3 2>&1); then fail "reading register 60 succeeded"; fi
+if out=$(mb -r 62 -c 1 -t 3 2>&1); then fail "reading register 62 succeeded"; fi
 grep -q "Illegal data address" <<<"$out" || fail "no exception 02: $out"
 if out=$(mb -B -r 8 -t 4:float -- -5 2>&1); then fail "writing PV = -5 succeeded"; fi
 grep -q "Illegal data value" <<<"$out" || fail "no exception 03: $out"

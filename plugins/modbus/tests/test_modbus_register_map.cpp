@@ -136,6 +136,44 @@ TEST(ModbusRegisterMap, FailedStatusWritesZerosAndItsFlags) {
   EXPECT_EQ(r.model_id, 0u);
 }
 
+// Protocol version 2: the interval block carries U95 and every flag; the version-1 registers
+// carry what they always did (result_flags without kFlagNoUncertainty).
+TEST(ModbusRegisterMap, IntervalBlockCarriesU95AndEveryFlag) {
+  compensation::Correction c;
+  c.rae_um = -4.25;
+  c.flags = compensation::kFlagOk | compensation::kFlagOutsideDomain;
+  c.u95_um = {2.5, 1.75, 1.25, 0.5};
+  map::InputRegisters in{};
+  map::encode_result(5, 0, Status::kOutsideDomain, c, in);
+  map::Result r = map::decode_result(in);
+  EXPECT_EQ(r.flags, compensation::kFlagOk | compensation::kFlagOutsideDomain);
+  EXPECT_EQ(r.interval_flags, compensation::kFlagOk | compensation::kFlagOutsideDomain);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(r.u95_um[k], c.u95_um[k]) << k;
+  EXPECT_EQ(in[map::kIntervalReserved], 0);
+
+  c.flags = compensation::kFlagOk | compensation::kFlagNoUncertainty;
+  c.u95_um = {0.0, 0.0, 0.0, 0.0};
+  map::InputRegisters v1_view{};
+  map::encode_result(6, 0, Status::kOk, c, v1_view);
+  r = map::decode_result(v1_view);
+  EXPECT_EQ(r.flags, compensation::kFlagOk);  // a version-1 client sees no new bit
+  EXPECT_EQ(r.interval_flags, compensation::kFlagOk | compensation::kFlagNoUncertainty);
+
+  // A failed status: zeros and the status's flags in both blocks.
+  c.u95_um = {9.0, 9.0, 9.0, 9.0};
+  map::encode_result(7, 0, Status::kNoModel, c, in);
+  r = map::decode_result(in);
+  EXPECT_EQ(r.interval_flags, compensation::kFlagNoModel);
+  for (const double u : r.u95_um) EXPECT_EQ(u, 0.0);
+  // A half-width beyond binary32 makes the whole result unusable, never inf on the wire.
+  c.u95_um = {1e300, 0.0, 0.0, 0.0};
+  c.flags = compensation::kFlagOk;
+  map::encode_result(8, 0, Status::kOk, c, in);
+  r = map::decode_result(in);
+  EXPECT_EQ(r.status, static_cast<std::int16_t>(Status::kInvalidInput));
+  EXPECT_EQ(r.u95_um[0], 0.0);
+}
+
 TEST(ModbusRegisterMap, FieldsTileTheMapWithoutGaps) {
   std::uint16_t next = 0;
   for (const auto& f : map::kHoldingFields) {

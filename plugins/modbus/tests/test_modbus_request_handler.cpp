@@ -64,10 +64,21 @@ TEST_F(ModbusRequestHandlerTest, WriteWithSequenceComputes) {
   EXPECT_EQ(r.sequence, 7);
   EXPECT_EQ(r.rae_um, 2.0);
   EXPECT_EQ(handler_.counters().computations, 1u);
-  // The copy in holding registers equals the result block.
+  // The copy in holding registers equals the result block, and the interval copy the interval
+  // block (protocol version 2), so one FC23 reading holding 25-57 gets both.
   for (std::size_t i = 0; i < map::kResultWords; ++i) {
     EXPECT_EQ(handler_.holding()[map::kResultCopy + i], handler_.input()[map::kResultSequence + i]);
   }
+  for (std::size_t i = 0; i < map::kIntervalWords; ++i) {
+    EXPECT_EQ(handler_.holding()[map::kIntervalCopy + i],
+              handler_.input()[map::kIntervalFlags + i]);
+  }
+  EXPECT_EQ(map::kIntervalCopy, map::kResultCopy + map::kResultWords);
+  // The example model has no interval calibration: U95 0, flagged as unknown in the new block
+  // only.
+  EXPECT_EQ(r.interval_flags, compensation::kFlagOk | compensation::kFlagNoUncertainty);
+  EXPECT_EQ(r.flags, compensation::kFlagOk);
+  for (const double u : r.u95_um) EXPECT_EQ(u, 0.0);
 }
 
 TEST_F(ModbusRequestHandlerTest, BlockThenSequenceWriteComputes) {

@@ -65,15 +65,23 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
   EXPECT_EQ(m.pv_mm_s, 100.0);
   EXPECT_EQ(m.ad_mm, 10.0);
   EXPECT_EQ(m.sequence, 1u);
-  plugins::modbus::InputRegisters in{};
-  for (std::size_t i = 0; i < plugins::modbus::kResultWords; ++i) {
-    in[1 + i] = static_cast<std::uint16_t>((adus[1][9 + 2 * i] << 8) | adus[1][10 + 2 * i]);
+  // The answer: holding 25-47 (the result block), then 48-57 (the interval block).
+  namespace map = plugins::modbus;
+  ASSERT_EQ(adus[1].size(), 9u + 2u * (map::kResultWords + map::kIntervalWords));
+  map::InputRegisters in{};
+  for (std::size_t i = 0; i < map::kResultWords + map::kIntervalWords; ++i) {
+    const std::size_t reg = i < map::kResultWords ? map::kResultSequence + i
+                                                  : map::kIntervalFlags + (i - map::kResultWords);
+    in[reg] = static_cast<std::uint16_t>((adus[1][9 + 2 * i] << 8) | adus[1][10 + 2 * i]);
   }
-  const auto r = plugins::modbus::decode_result(in);
+  const auto r = map::decode_result(in);
   EXPECT_EQ(r.sequence, 1u);
-  EXPECT_NEAR(r.rae_um, -5.298, 5e-4);
-  EXPECT_NEAR(r.correction_um[0], 5.298, 5e-4);
-  EXPECT_EQ(r.model_id, 0xc2fc35069149ab07ull);
+  EXPECT_NEAR(r.rae_um, -4.777, 5e-4);
+  EXPECT_NEAR(r.correction_um[0], 4.777, 5e-4);
+  EXPECT_EQ(r.model_id, 0x1f5b2c4feab7ec72ull);
+  EXPECT_EQ(r.interval_flags, compensation::kFlagOk);
+  EXPECT_NEAR(r.u95_um[0], 2.734, 5e-4);
+  EXPECT_NEAR(r.u95_um[3], 0.680, 5e-4);
 }
 
 TEST(RecordingsDoc, CandumpExampleHasTheDocumentedFormAndDecodes) {

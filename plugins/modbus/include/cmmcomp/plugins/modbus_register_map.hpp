@@ -21,9 +21,10 @@
 
 namespace cmmcomp::plugins::modbus {
 
-/// Version of the register map in input register kProtocolVersion; bumped on any change that a
-/// client can observe.
-inline constexpr std::uint16_t kProtocolVersion = 1;
+/// Version of the register map in input register kProtocolVersionReg; bumped on any change that
+/// a client can observe. Version 2 appended the interval block (input 52–61, its copy holding
+/// 48–57); every register of version 1 keeps its address, type and meaning.
+inline constexpr std::uint16_t kProtocolVersion = 2;
 
 // ---- holding registers (FC03 read, FC06/FC16/FC23 write): the request
 inline constexpr std::uint16_t kAxis = 0;           ///< u16, 0 .. kMaxAxes−1
@@ -68,12 +69,26 @@ inline constexpr std::uint16_t kExceptions = 30;         ///< u32 counter
 inline constexpr std::uint16_t kComputations = 32;       ///< u32 counter
 inline constexpr std::uint16_t kClientsConnected = 34;   ///< u32 counter
 inline constexpr std::uint16_t kModelIdAxis0 = 36;       ///< u64 ×4, current model id per axis
-inline constexpr std::uint16_t kInputCount = 52;
+// protocol version 2: the result's 95 % prediction interval (docs/uncertainty.md)
+inline constexpr std::uint16_t kIntervalFlags = 52;     ///< u16, every CorrectionFlag bit
+inline constexpr std::uint16_t kIntervalReserved = 53;  ///< u16, 0
+inline constexpr std::uint16_t kU95Mpe = 54;            ///< f32 [µm], U95 of MPE
+inline constexpr std::uint16_t kU95Rpe = 56;            ///< f32 [µm]
+inline constexpr std::uint16_t kU95Mae = 58;            ///< f32 [µm]
+inline constexpr std::uint16_t kU95Rae = 60;            ///< f32 [µm]
+inline constexpr std::uint16_t kIntervalEnd = 62;       ///< first register after the interval
+inline constexpr std::uint16_t kInputCount = 62;
 inline constexpr std::uint16_t kResultWords = kResultEnd - kResultSequence;
-inline constexpr std::uint16_t kHoldingCount = kResultCopy + kResultWords;  ///< 48
+inline constexpr std::uint16_t kIntervalWords = kIntervalEnd - kIntervalFlags;
+/// Read-only copy of the interval block, right after the result copy, so that one FC23 can write
+/// a request and read its result and interval (holding 25–57).
+inline constexpr std::uint16_t kIntervalCopy = kResultCopy + kResultWords;      ///< 48
+inline constexpr std::uint16_t kHoldingCount = kIntervalCopy + kIntervalWords;  ///< 58
 
 static_assert(kSequence == kRequestCount - 1, "the trigger is the last request register");
-static_assert(kModelIdAxis0 + 4 * compensation::kMaxAxes == kInputCount, "input map size");
+static_assert(kModelIdAxis0 + 4 * compensation::kMaxAxes == kIntervalFlags,
+              "the interval block follows the model ids");
+static_assert(kIntervalEnd == kInputCount, "input map size");
 
 using HoldingRegisters = std::array<std::uint16_t, kHoldingCount>;
 using InputRegisters = std::array<std::uint16_t, kInputCount>;
@@ -109,7 +124,7 @@ struct Field {
   }
 };
 
-inline constexpr std::array<Field, 15> kHoldingFields{{
+inline constexpr std::array<Field, 16> kHoldingFields{{
     {"axis", kAxis, FieldType::kU16, "axis", ""},
     {"reserved", kReserved, FieldType::kU16, "reserved", ""},
     {"direction_x", kDirectionX, FieldType::kF32, "direction x", ""},
@@ -125,9 +140,10 @@ inline constexpr std::array<Field, 15> kHoldingFields{{
     {"z_mm", kZ, FieldType::kF32, "Z", "mm"},
     {"sequence", kSequence, FieldType::kU16, "sequence", ""},
     {"result_copy", kResultCopy, FieldType::kU16, "result copy", "", kResultWords},
+    {"interval_copy", kIntervalCopy, FieldType::kU16, "interval copy", "", kIntervalWords},
 }};
 
-inline constexpr std::array<Field, 24> kInputFields{{
+inline constexpr std::array<Field, 30> kInputFields{{
     {"protocol_version", kProtocolVersionReg, FieldType::kU16, "protocol version", ""},
     {"result_sequence", kResultSequence, FieldType::kU16, "sequence", ""},
     {"result_status", kResultStatus, FieldType::kI16, "status", ""},
@@ -152,6 +168,12 @@ inline constexpr std::array<Field, 24> kInputFields{{
     {"model_id_axis1", kModelIdAxis0 + 4, FieldType::kU64, "model id axis 1", ""},
     {"model_id_axis2", kModelIdAxis0 + 8, FieldType::kU64, "model id axis 2", ""},
     {"model_id_axis3", kModelIdAxis0 + 12, FieldType::kU64, "model id axis 3", ""},
+    {"interval_flags", kIntervalFlags, FieldType::kU16, "interval flags", ""},
+    {"interval_reserved", kIntervalReserved, FieldType::kU16, "interval reserved", ""},
+    {"u95_mpe_um", kU95Mpe, FieldType::kF32, "U95 MPE", "µm"},
+    {"u95_rpe_um", kU95Rpe, FieldType::kF32, "U95 RPE", "µm"},
+    {"u95_mae_um", kU95Mae, FieldType::kF32, "U95 MAE", "µm"},
+    {"u95_rae_um", kU95Rae, FieldType::kF32, "U95 RAE", "µm"},
 }};
 
 // ---- word codecs (most significant word first)
@@ -278,6 +300,10 @@ struct Result {
   double rae_um = 0.0;         ///< predicted RAE [µm]
   std::array<double, 3> correction_um{0.0, 0.0, 0.0};  ///< +RAE·d [µm]
   std::uint64_t model_id = 0;                          ///< model that computed it
+  /// Protocol version 2: every CorrectionFlag bit (kFlagNoUncertainty too), and the 95 %
+  /// interval half-widths of MPE, RPE, MAE, RAE [µm] (0: unknown or no result).
+  std::uint16_t interval_flags = 0;
+  std::array<double, 4> u95_um{0.0, 0.0, 0.0, 0.0};
 };
 
 /// The seven values of `c` in result-block order (MPE, RPE, MAE, RAE, correction x, y, z).
@@ -292,17 +318,21 @@ inline std::array<double, 7> result_values(const compensation::Correction& c) no
           c.correction_um[2]};
 }
 
-/// True when every value of `c` fits a finite binary32. RT-safe.
+/// True when every value of `c` (the interval's half-widths too) fits a finite binary32.
+/// RT-safe.
 inline bool fits_f32(const compensation::Correction& c) noexcept {
   constexpr double kMax = static_cast<double>(std::numeric_limits<float>::max());
   bool good = true;
   for (double v : result_values(c)) good = good && std::isfinite(v) && std::fabs(v) <= kMax;
+  for (double v : c.u95_um) good = good && std::isfinite(v) && std::fabs(v) <= kMax;
   return good;
 }
 
-/// Writes the result of one request into the result block [kResultSequence, kResultEnd) of `in`:
-/// when ok(status) and `c` fits binary32, the correction; otherwise zeros, flags_for(status)
-/// (kInvalidInput when the values do not fit) and model id 0. Never writes NaN or inf. RT-safe.
+/// Writes the result of one request into the result block [kResultSequence, kResultEnd) and the
+/// interval block [kIntervalFlags, kIntervalEnd) of `in`: when ok(status) and `c` fits binary32,
+/// the correction and its interval; otherwise zeros, flags_for(status) (kInvalidInput when the
+/// values do not fit) and model id 0. `result_flags` keeps the version-1 bits (a version-1
+/// client sees the same bytes); `interval_flags` has every bit. Never writes NaN or inf. RT-safe.
 inline void encode_result(std::uint16_t sequence,
                           std::uint16_t axis,
                           Status status,
@@ -312,7 +342,7 @@ inline void encode_result(std::uint16_t sequence,
   if (ok(status) && !usable) status = Status::kInvalidInput;
   in[kResultSequence] = sequence;
   in[kResultStatus] = static_cast<std::uint16_t>(static_cast<std::int16_t>(status));
-  // Protocol version 1 carries only the flags a version-1 client knows (docs/modbus-protocol.md).
+  // result_flags carries only the flags a version-1 client knows (docs/protocol-modbus.md).
   in[kResultFlags] = static_cast<std::uint16_t>(
       (usable ? c.flags : compensation::flags_for(status)) & compensation::kFlagsVersion1);
   in[kResultAxis] = axis;
@@ -323,6 +353,13 @@ inline void encode_result(std::uint16_t sequence,
             usable ? static_cast<float>(values[i]) : 0.0f);
   }
   put_u64(&in[kResultModelId], usable ? c.model_id : 0);
+  in[kIntervalFlags] =
+      static_cast<std::uint16_t>(usable ? c.flags : compensation::flags_for(status));
+  in[kIntervalReserved] = 0;
+  for (std::uint16_t i = 0; i < 4; ++i) {
+    put_f32(&in[static_cast<std::size_t>(kU95Mpe + 2 * i)],
+            usable ? static_cast<float>(c.u95_um[i]) : 0.0f);
+  }
 }
 
 /// Reads the result block of `in`. RT-safe.
@@ -340,6 +377,10 @@ inline Result decode_result(const InputRegisters& in) noexcept {
                      static_cast<double>(get_f32(&in[kCorrectionY])),
                      static_cast<double>(get_f32(&in[kCorrectionZ]))};
   r.model_id = get_u64(&in[kResultModelId]);
+  r.interval_flags = in[kIntervalFlags];
+  for (std::uint16_t i = 0; i < 4; ++i) {
+    r.u95_um[i] = static_cast<double>(get_f32(&in[static_cast<std::size_t>(kU95Mpe + 2 * i)]));
+  }
   return r;
 }
 

@@ -262,6 +262,11 @@ class ModbusRequestHandler {
       input_[modbus::kResultSequence + r] = v;
       holding_[modbus::kResultCopy + r] = v;
     }
+    for (std::size_t r = 0; r < modbus::kIntervalWords; ++r) {
+      const std::uint16_t v = staged[modbus::kIntervalFlags + r];
+      input_[modbus::kIntervalFlags + r] = v;
+      holding_[modbus::kIntervalCopy + r] = v;
+    }
     bump(computations_);
     return reply();
   }
