@@ -20,23 +20,10 @@ bin="${CMMCOMP_BIN:-$here/build/release/tools}"
 sim="$bin/cmmcomp-sim/cmmcomp-sim"
 train="$bin/cmmcomp-train/cmmcomp-train"
 measure="$bin/cmmcomp-measure/cmmcomp-measure"
-for tool in "$sim" "$train" "$measure"; do
-  if [ ! -x "$tool" ]; then
-    echo "cross-machine: build the tools first: cmake --build --preset release" >&2
-    exit 2
-  fi
-done
-check=0
-if [ "${1:-}" = "--check" ]; then
-  check=1
-  shift
-fi
-work="${1:-}"
-if [ -z "$work" ]; then
-  work="$(mktemp -d)"
-  trap 'rm -rf "$work"' EXIT
-fi
-mkdir -p "$work"
+# shellcheck source=lib/tool-script.sh
+source "$here/scripts/lib/tool-script.sh"
+require_tools cross-machine "$sim" "$train" "$measure"
+parse_check_and_work "$@"
 
 # `cmmcomp-train eval --json` -> "reduction % (mean |residual|)" for MPE, RPE, MAE, RAE.
 summary() {

@@ -24,23 +24,10 @@ sim="$bin/cmmcomp-sim/cmmcomp-sim"
 train="$bin/cmmcomp-train/cmmcomp-train"
 model="$here/data/models/default.json"
 known="$here/tests/data/interval-known-unmet.txt"
-for tool in "$sim" "$train"; do
-  if [ ! -x "$tool" ]; then
-    echo "interval-coverage: build the tools first: cmake --build --preset release" >&2
-    exit 2
-  fi
-done
-check=0
-if [ "${1:-}" = "--check" ]; then
-  check=1
-  shift
-fi
-work="${1:-}"
-if [ -z "$work" ]; then
-  work="$(mktemp -d)"
-  trap 'rm -rf "$work"' EXIT
-fi
-mkdir -p "$work"
+# shellcheck source=lib/tool-script.sh
+source "$here/scripts/lib/tool-script.sh"
+require_tools interval-coverage "$sim" "$train"
+parse_check_and_work "$@"
 # shellcheck source=lib/eval-json.sh
 source "$here/scripts/lib/eval-json.sh"
 failures=0

@@ -636,29 +636,21 @@ ModelData parse_model_json(const std::string& text,
   const Json doc = parse_document(text, source);
   const Reader r(source);
   const int version = read_version(doc, r);
-  if (version == kModelFileVersionNoUncertainty) {
-    r.only_keys(doc,
-                "",
-                {"format",
-                 "format_version",
-                 "architecture",
-                 "inputs",
-                 "outputs",
-                 "parameters",
-                 "training",
-                 "checksum"});
-  } else {
-    r.only_keys(doc,
-                "",
-                {"format",
-                 "format_version",
-                 "architecture",
-                 "inputs",
-                 "outputs",
-                 "parameters",
-                 "training",
-                 "uncertainty",
-                 "checksum"});
+  // Version 1 has no "uncertainty" (its slot in the list repeats "checksum": no extra key);
+  // version 2 requires it (null: no calibration).
+  const bool v1 = version == kModelFileVersionNoUncertainty;
+  r.only_keys(doc,
+              "",
+              {"format",
+               "format_version",
+               "architecture",
+               "inputs",
+               "outputs",
+               "parameters",
+               "training",
+               v1 ? "checksum" : "uncertainty",
+               "checksum"});
+  if (!v1) {
     r.key(doc, "", "uncertainty");  // required in version 2 (null: no calibration)
   }
   const ModelArchitecture a = read_header(doc, r);
