@@ -48,6 +48,7 @@ struct FitCommand {
   std::uint64_t seed = 1;
   double lambda = -1;
   int max_iterations = cmmcomp::training::FnnTrainingOptions{}.max_iterations;
+  double interval_coverage = cmmcomp::training::FnnTrainingOptions{}.interval_coverage;
   std::string inputs = inputs_option<cmmcomp::PaperInputs>();
 };
 
@@ -68,6 +69,7 @@ int run_fit(const FitCommand& cmd) {
   options.seed = cmd.seed;
   options.lambda = cmd.lambda;
   options.max_iterations = cmd.max_iterations;
+  options.interval_coverage = cmd.interval_coverage;
   options.input_names = input_labels<Inputs>();
   if (isatty(fileno(stderr)) != 0) {
     options.progress = [](int iteration, double cost) {
@@ -89,13 +91,15 @@ int run_fit(const FitCommand& cmd) {
               s.iterations,
               s.initial_cost,
               s.final_cost);
+  // The interval's columns are named by its coverage: U95 at the default 0.95.
+  const std::string u_name = fmt::format("U{:g}", 100.0 * cmd.interval_coverage);
   std::printf("%-6s %14s %14s %14s %14s %12s\n",
               "",
               "init RMSE um",
               "train RMSE um",
               "CV RMSE um",
-              "U95 um",
-              "U95 gain");
+              (u_name + " um").c_str(),
+              (u_name + " gain").c_str());
   for (std::size_t o = 0; o < 4; ++o) {
     std::printf("%-6s %14.4f %14.4f %14.4f %14.4f %12.3f\n",
                 cmmcomp::kErrors[o].label,
@@ -265,6 +269,12 @@ int main(int argc, char** argv) {
   fit->add_option("--lambda", fit_cmd.lambda, "ridge weight (default: chosen by CV)");
   fit->add_option("--max-iterations", fit_cmd.max_iterations, "LM iterations")
       ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  fit->add_option("--interval-coverage",
+                  fit_cmd.interval_coverage,
+                  "nominal coverage of the calibrated prediction interval, in (0, 1); 0: none "
+                  "(docs/uncertainty.md)")
+      ->check(CLI::Range(0.0, 0.999))
       ->capture_default_str();
   std::vector<std::string> served_inputs;
   cmmcomp::for_each_input_set(cmmcomp::ServedInputSets{},
