@@ -11,7 +11,8 @@ mkdir -p "$out"
 
 bash scripts/install-deps.sh
 cmake --preset release >/dev/null
-cmake --build --preset release --target cmmcomp-sim cmmcomp-train cmmcomp-agent cmmcomp-vc
+cmake --build --preset release --target cmmcomp-sim cmmcomp-train cmmcomp-agent cmmcomp-vc \
+  cmmcomp-measure
 sim="$here/build/release/tools/cmmcomp-sim/cmmcomp-sim"
 train="$here/build/release/tools/cmmcomp-train/cmmcomp-train"
 agent="$here/build/release/tools/cmmcomp-agent/cmmcomp-agent"
@@ -31,7 +32,12 @@ echo "== 3. T-S fuzzy network: train on the L18 x 3 set, test on 270 Latin-hyper
 "$train" fit "$out/l18x3.csv" -o "$out/model.json"
 "$train" eval "$out/model.json" "$out/lhs270.csv" --plot "$out/fig5_compensation.png"
 echo
-echo "== 4. Length test at speed: the virtual controller asks cmmcomp-agent over Modbus TCP =="
+echo "== 4. Other machines: the real-machine workflow on the default and three perturbed twins =="
+echo "   (plan L18 x 3 -> recorded traces with tracker noise -> extract -> train -> test on LHS 270;"
+echo "    each machine's own model next to the default machine's model: docs/training.md)"
+bash scripts/cross-machine.sh "$out/cross-machine"
+echo
+echo "== 5. Length test at speed: the virtual controller asks cmmcomp-agent over Modbus TCP =="
 echo "   (models: the paper's 4 inputs, and 5 inputs with the carriage position Y)"
 bash tools/cmmcomp-vc/run-length-test.sh --agent-bin "$agent" --vc-bin "$vc" \
   --out "$out/length-test" \
@@ -39,7 +45,7 @@ bash tools/cmmcomp-vc/run-length-test.sh --agent-bin "$agent" --vc-bin "$vc" \
 # The same over SocketCAN where the User-Mode Linux runner works (vcan needs a CAN kernel).
 if bash scripts/uml-run.sh --timeout 60 -- true >/dev/null 2>&1; then
   echo
-  echo "== 5. The same length test over SocketCAN (vcan0 in User-Mode Linux) =="
+  echo "== 6. The same length test over SocketCAN (vcan0 in User-Mode Linux) =="
   bash scripts/uml-run.sh --timeout 180 -- bash tools/cmmcomp-vc/run-length-test.sh --can vcan0 \
     --agent-bin "$agent" --vc-bin "$vc" --out "$out/length-test-can" \
     --model 4in=data/models/default.json --model 5in=data/models/default-y.json
