@@ -72,10 +72,14 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
   }
   if (!(setup.rest_s >= 0.01 && setup.rest_s <= 60) || !(std::fabs(setup.drift) < 0.01) ||
       !(setup.white_noise_um >= 0) || !(setup.pink_noise_um >= 0) ||
-      !(setup.dropout_fraction >= 0 && setup.dropout_fraction < 0.5)) {
+      !(setup.dropout_fraction >= 0 && setup.dropout_fraction < 0.5) ||
+      !(setup.tracker_jitter >= 0 && setup.tracker_jitter <= 0.45)) {
     throw ConfigError(
         "recording setup out of range (rest 0.01–60 s, |drift| < 1 %, noise ≥ 0, "
-        "dropouts < 50 %)");
+        "dropouts < 50 %, tracker jitter 0–0.45 of a period)");
+  }
+  if (setup.tracker_jitter > 0 && !setup.two_clocks) {
+    throw ConfigError("tracker jitter needs two clocks (one clock samples the tip with the scale)");
   }
   dynamics::SimulationOptions exact_options;
   dynamics::SimulationOptions trace_options;
@@ -131,8 +135,14 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
       const auto tracker_time = [&](double tc) {
         return tc * (1.0 - setup.drift) - setup.clock_offset_s;
       };
-      for (double tt = std::ceil(tracker_time(session) / dtt) * dtt; tt <= tracker_time(end);
-           tt += dtt) {
+      for (double nominal = std::ceil(tracker_time(session) / dtt) * dtt;
+           nominal <= tracker_time(end);
+           nominal += dtt) {
+        // Uneven sampling: the sample is taken when its time stamp says, off the even grid
+        // (no draw without jitter, so the other recordings keep their noise).
+        const double tt = setup.tracker_jitter > 0
+                              ? nominal + (2.0 * rng.uniform() - 1.0) * setup.tracker_jitter * dtt
+                              : nominal;
         const double tc = (tt + setup.clock_offset_s) / (1.0 - setup.drift);
         double s = 0, p = 0;
         tr.at(tc - start, s, p);

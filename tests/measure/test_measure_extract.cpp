@@ -160,6 +160,36 @@ TEST(MeasureExtract, ShortDropoutsAreBridgedAndCounted) {
   for (double v : {e.mpe, e.rpe, e.mae, e.rae}) EXPECT_LE(v, 0.1);
 }
 
+TEST(MeasureExtract, UnevenTrackerSamplingGivesTheTwinsParameters) {
+  // A tracker whose samples come off its even grid (each by up to ±40 % of its period) but
+  // carry their true time stamps: extraction interpolates on the stamps, so nothing is lost.
+  RecordingSetup s;
+  s.two_clocks = true;
+  s.controller_rate_hz = 1000;
+  s.tracker_rate_hz = 2000;
+  s.clock_offset_s = 0.037;
+  s.drift = 100e-6;
+  s.tracker_jitter = 0.4;
+  const Errors e = run("two clocks (known), tracker jitter ±40 % of 0.5 ms", s, nullptr, true);
+  EXPECT_EQ(e.extracted, 18);
+  for (double v : {e.mpe, e.rpe, e.mae, e.rae}) EXPECT_LE(v, 0.05);
+  // The recording really is uneven: its sample spacing spreads over most of ±80 % of a period.
+  const auto twin = record_on_twin(dynamics::default_machine(), l18_plan(), s);
+  const std::vector<double>& t = twin.front().recording.tip_t_s;
+  ASSERT_GT(t.size(), 100u);
+  double shortest = 1.0, longest = 0.0;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    shortest = std::min(shortest, t[i] - t[i - 1]);
+    longest = std::max(longest, t[i] - t[i - 1]);
+  }
+  EXPECT_LT(shortest, 0.5e-3 * 0.4);
+  EXPECT_GT(longest, 0.5e-3 * 1.6);
+  // Jitter with one clock is refused: the tip is sampled with the scale there.
+  RecordingSetup one = s;
+  one.two_clocks = false;
+  EXPECT_THROW(record_on_twin(dynamics::default_machine(), l18_plan(), one), ConfigError);
+}
+
 TEST(MeasureExtract, AMoveThatCannotBeExtractedIsSkippedWithItsReason) {
   const dynamics::Machine machine = dynamics::default_machine();
   RecordingSetup s;

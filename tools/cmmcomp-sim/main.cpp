@@ -526,6 +526,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   record->add_option("--dropouts", rec.setup.dropout_fraction, "share of tracker samples lost")
       ->capture_default_str();
+  record
+      ->add_option("--tracker-jitter",
+                   rec.setup.tracker_jitter,
+                   "uneven tracker sampling: each sample off its even grid by up to this share of "
+                   "the period (0-0.45, with --two-clocks)")
+      ->capture_default_str();
   record->add_option("--seed", rec.setup.seed, "noise seed")->capture_default_str();
   record->add_flag("--session",
                    rec.session,

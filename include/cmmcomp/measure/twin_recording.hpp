@@ -26,7 +26,10 @@ struct RecordingSetup {
   double white_noise_um = 0.0;    ///< tracker white noise, standard deviation
   double pink_noise_um = 0.0;     ///< tracker 1/f noise, standard deviation
   double dropout_fraction = 0.0;  ///< share of tracker samples lost, in short bursts
-  double rest_s = 0.3;            ///< rest before each move (and between moves)
+  /// Uneven tracker sampling (two clocks only): each sample is taken, and time-stamped, at its
+  /// nominal time plus a uniform offset of ± this share of the tracker period, in [0, 0.45].
+  double tracker_jitter = 0.0;
+  double rest_s = 0.3;  ///< rest before each move (and between moves)
   std::uint64_t seed = 1;
 };
 
