@@ -22,6 +22,16 @@
 
 namespace cmmcomp::training {
 
+/// The split-conformal quantile of `scores` at coverage `c`: the ⌈(n + 1)c⌉-th smallest (the
+/// largest when that exceeds n: too few samples for the coverage, which then is not guaranteed).
+double conformal_quantile(std::vector<double> scores, double c) {
+  if (scores.empty()) return 0.0;
+  std::sort(scores.begin(), scores.end());
+  const double n = static_cast<double>(scores.size());
+  const auto rank = static_cast<std::size_t>(std::ceil((n + 1.0) * c));
+  return scores[std::min(std::max<std::size_t>(rank, 1), scores.size()) - 1];
+}
+
 namespace {
 
 using Eigen::Index;
@@ -115,16 +125,6 @@ MatrixXd rows(const MatrixXd& m, const std::vector<Index>& index) {
   MatrixXd out(static_cast<Index>(index.size()), m.cols());
   for (std::size_t r = 0; r < index.size(); ++r) out.row(static_cast<Index>(r)) = m.row(index[r]);
   return out;
-}
-
-/// The split-conformal quantile of `scores` at coverage `c`: the ⌈(n + 1)c⌉-th smallest (the
-/// largest when that exceeds n: too few samples for the coverage, which then is not guaranteed).
-double conformal_quantile(std::vector<double> scores, double c) {
-  if (scores.empty()) return 0.0;
-  std::sort(scores.begin(), scores.end());
-  const double n = static_cast<double>(scores.size());
-  const auto rank = static_cast<std::size_t>(std::ceil((n + 1.0) * c));
-  return scores[std::min(std::max<std::size_t>(rank, 1), scores.size()) - 1];
 }
 
 /// Everything one training run works on.

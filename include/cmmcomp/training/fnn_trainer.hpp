@@ -173,6 +173,12 @@ FnnTrainingResult<kInputs, kSets, kOutputs> train_fnn(
     const std::vector<std::array<double, kOutputs>>& targets,
     const FnnTrainingOptions& options = {});
 
+/// The split-conformal quantile of step 7 (docs/uncertainty.md): the ⌈(n + 1)c⌉-th smallest of
+/// the n `scores`, the rank clamped to [1, n] (so the largest when (n + 1)c > n: too few samples
+/// for the coverage, which then is not guaranteed); 0 when there are no scores. c ∈ (0, 1).
+/// Declared here so that the unit tests can check the rule train_fnn uses.
+double conformal_quantile(std::vector<double> scores, double c);
+
 /// Dataset rows as training samples: inputs and the four error parameters as targets.
 template <int kInputs>
 struct Samples {
