@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unsupported/Eigen/MatrixFunctions>
 
 namespace cmmcomp::dynamics {
 namespace {
@@ -16,6 +15,68 @@ constexpr int kAc = kStates + 1;  // commanded acceleration
 constexpr int kJerk = kStates + 2;
 constexpr int kF0 = kStates + 3;  // Coulomb fraction at the step's start, then along its line
 constexpr int kF1 = kStates + 4;  // its slope over the step [1/s]
+
+constexpr int kN = ExponentialIntegrator::kAugmented;
+using Matrix = ExponentialIntegrator::Matrix;
+using Vector = ExponentialIntegrator::Vector;
+
+constexpr std::size_t at(int r, int c) noexcept { return static_cast<std::size_t>(r * kN + c); }
+
+/// a · b (row-major), each element summed in column order.
+Matrix multiply(const Matrix& a, const Matrix& b) noexcept {
+  Matrix p{};
+  for (int r = 0; r < kN; ++r) {
+    for (int c = 0; c < kN; ++c) {
+      double sum = 0.0;
+      for (int k = 0; k < kN; ++k) sum += a[at(r, k)] * b[at(k, c)];
+      p[at(r, c)] = sum;
+    }
+  }
+  return p;
+}
+
+/// m · v, each element summed in column order.
+Vector apply(const Matrix& m, const Vector& v) noexcept {
+  Vector out{};
+  for (int r = 0; r < kN; ++r) {
+    double sum = 0.0;
+    for (int k = 0; k < kN; ++k) sum += m[at(r, k)] * v[static_cast<std::size_t>(k)];
+    out[static_cast<std::size_t>(r)] = sum;
+  }
+  return out;
+}
+
+/// exp(a) by scaling and squaring: a / 2^s has a 1-norm ≤ 1/2, its Taylor series to order 20
+/// (truncation below 0.5^21 / 21! ≈ 1e-26 of the norm), then s squarings. Deterministic.
+Matrix exponential(const Matrix& a) {
+  double norm = 0.0;  // the 1-norm: the largest column sum of |a|
+  for (int c = 0; c < kN; ++c) {
+    double col = 0.0;
+    for (int r = 0; r < kN; ++r) col += std::abs(a[at(r, c)]);
+    norm = std::max(norm, col);
+  }
+  int squarings = 0;
+  while (norm > 0.5 && squarings < 64) {
+    norm *= 0.5;
+    ++squarings;
+  }
+  const double scale = std::ldexp(1.0, -squarings);
+  Matrix x{};
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a[i] * scale;
+  Matrix result{};
+  Matrix term{};
+  for (int i = 0; i < kN; ++i) result[at(i, i)] = term[at(i, i)] = 1.0;
+  for (int k = 1; k <= 20; ++k) {
+    term = multiply(term, x);
+    const double inv_k = 1.0 / k;
+    for (std::size_t i = 0; i < term.size(); ++i) {
+      term[i] *= inv_k;
+      result[i] += term[i];
+    }
+  }
+  for (int i = 0; i < squarings; ++i) result = multiply(result, result);
+  return result;
+}
 
 /// Cubic Hermite interpolation at s ∈ [0, 1] of a step of length h.
 double hermite(double s, double h, double p0, double d0, double p1, double d1) noexcept {
@@ -51,11 +112,11 @@ ExponentialIntegrator::ExponentialIntegrator(const Coefficients& c, double max_s
     : c_(c), max_step_(max_step_s) {
   // M's columns are the right-hand side's response to each augmented state alone: the equations
   // stay written once (bridge_equations.hpp), linear once the Coulomb fraction is a state.
-  m_.setZero();
+  m_.fill(0.0);
   double dy[kStates];
   auto column = [&](int col, const motion::MotionState& cmd, const double* y, double f) {
     derivatives_given_coulomb(c_, cmd, y, f, dy);
-    for (int r = 0; r < kStates; ++r) m_(r, col) = dy[r];
+    for (int r = 0; r < kStates; ++r) m_[at(r, col)] = dy[r];
   };
   const motion::MotionState rest{};
   for (int i = 0; i < kStates; ++i) {
@@ -67,9 +128,9 @@ ExponentialIntegrator::ExponentialIntegrator(const Coefficients& c, double max_s
   column(kVc, motion::MotionState{0.0, 1.0, 0.0, 0.0}, zero, 0.0);
   column(kAc, motion::MotionState{0.0, 0.0, 1.0, 0.0}, zero, 0.0);
   column(kF0, rest, zero, 1.0);
-  m_(kVc, kAc) = 1.0;    // v_c' = a_c
-  m_(kAc, kJerk) = 1.0;  // a_c' = jerk
-  m_(kF0, kF1) = 1.0;    // f' = f₁ along the step
+  m_[at(kVc, kAc)] = 1.0;    // v_c' = a_c
+  m_[at(kAc, kJerk)] = 1.0;  // a_c' = jerk
+  m_[at(kF0, kF1)] = 1.0;    // f' = f₁ along the step
 }
 
 const ExponentialIntegrator::Matrix& ExponentialIntegrator::transition(double h) {
@@ -78,7 +139,9 @@ const ExponentialIntegrator::Matrix& ExponentialIntegrator::transition(double h)
   }
   Cached& slot = cache_[static_cast<std::size_t>(next_slot_)];
   next_slot_ = (next_slot_ + 1) % static_cast<int>(cache_.size());
-  slot.phi = (m_ * h).exp();
+  Matrix mh{};
+  for (std::size_t i = 0; i < mh.size(); ++i) mh[i] = m_[i] * h;
+  slot.phi = exponential(mh);
   slot.h = h;
   ++exponentials_;
   return slot.phi;
@@ -94,8 +157,8 @@ void ExponentialIntegrator::advance(const motion::Segment& segment,
   const Matrix& phi = transition(h);
   const long n = static_cast<long>(n_steps);
 
-  Vector z;
-  for (int i = 0; i < kStates; ++i) z[i] = y[i];
+  Vector z{};
+  for (int i = 0; i < kStates; ++i) z[static_cast<std::size_t>(i)] = y[i];
   z[kVc] = segment.v0;
   z[kAc] = segment.a0;
   z[kJerk] = segment.jerk;
@@ -116,7 +179,7 @@ void ExponentialIntegrator::advance(const motion::Segment& segment,
     z[kF0] = f;
     z[kF1] = (1.0 - f * f) * c_.inv_coulomb_speed * (z[kHoseInner] - v_h) * c_.inv_tau;
     const Vector z0 = z;
-    z = phi * z0;
+    z = apply(phi, z0);
     ++steps_;
 
     // Interior samples: an extremum of the tip error (de/dt = −φ η̇ changes sign) and the
@@ -149,12 +212,13 @@ void ExponentialIntegrator::advance(const motion::Segment& segment,
       for (std::size_t i = 0; i < count; ++i) {
         double yi[kStates];
         for (int j = 0; j < kStates; ++j) {
-          yi[j] = hermite(interior[i].s, h, z0[j], dy0[j], z[j], dy1[j]);
+          const auto sj = static_cast<std::size_t>(j);
+          yi[j] = hermite(interior[i].s, h, z0[sj], dy0[j], z[sj], dy1[j]);
         }
         sink(interior[i].t, yi);
       }
     }
-    for (int i = 0; i < kStates; ++i) y[i] = z[i];
+    for (int i = 0; i < kStates; ++i) y[i] = z[static_cast<std::size_t>(i)];
     sink(t1, y);
   }
 }

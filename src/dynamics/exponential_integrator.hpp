@@ -13,7 +13,6 @@
 /// "Integration").
 #pragma once
 
-#include <Eigen/Core>
 #include <array>
 #include <functional>
 
@@ -25,8 +24,13 @@ class ExponentialIntegrator {
  public:
   /// The model's states plus v_c, a_c, jerk, f₀, f₁.
   static constexpr int kAugmented = equations::kStates + 5;
-  using Matrix = Eigen::Matrix<double, kAugmented, kAugmented>;
-  using Vector = Eigen::Matrix<double, kAugmented, 1>;
+  /// Row-major. Plain arrays and loops in a fixed order, not a SIMD library: the twin's data
+  /// must be the same bits in every build (the release preset's -march=x86-64-v3 and the
+  /// portable sanitizer builds), because the shipped models are retrained from it and compared
+  /// by its hash (ctest default_model_reproducible); a last-digit change of one sample moves the
+  /// retrained model by ~0.5 µm.
+  using Matrix = std::array<double, kAugmented * kAugmented>;
+  using Vector = std::array<double, kAugmented>;
   /// Receives a sample: its time [s] and the model's states (equations::kStates values).
   using Sink = std::function<void(double t, const double* y)>;
 

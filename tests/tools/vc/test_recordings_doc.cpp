@@ -76,9 +76,9 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
   }
   const auto r = map::decode_result(in);
   EXPECT_EQ(r.sequence, 1u);
-  EXPECT_NEAR(r.rae_um, -4.777, 5e-4);
-  EXPECT_NEAR(r.correction_um[0], 4.777, 5e-4);
-  EXPECT_EQ(r.model_id, 0x1f5b2c4feab7ec72ull);
+  EXPECT_NEAR(r.rae_um, -4.780, 5e-4);
+  EXPECT_NEAR(r.correction_um[0], 4.780, 5e-4);
+  EXPECT_EQ(r.model_id, 0x5fb1ca218e0b80beull);
   EXPECT_EQ(r.interval_flags, compensation::kFlagOk);
   EXPECT_NEAR(r.u95_um[0], 2.734, 5e-4);
   EXPECT_NEAR(r.u95_um[3], 0.680, 5e-4);
