@@ -34,7 +34,7 @@ inline IntegratorOptions default_integrator_options() {
 /// How the twin integrates the model (docs/machine-model.md, "Integration").
 enum class Integration {
   /// Default: the linear part exactly (matrix exponential per step), the Coulomb drag's tanh as
-  /// a line over each step of at most `exponential_max_step_s`. About 7x faster than CVODE.
+  /// a line over each step of at most `exponential_max_step_s`. About 6x faster than CVODE.
   kExponential,
   /// SUNDIALS CVODE with `integrator`'s settings: the reference the exponential path is tested
   /// against.
@@ -46,7 +46,7 @@ struct SimulationOptions {
   Integration integration = Integration::kExponential;
   /// Longest step of the exponential integrator [s], in [1e-6, 0.1]. At 0.5 ms the four
   /// parameters are within 4.1e-4 µm of CVODE at rtol 1e-10 on 12 test moves (1.8e-4 µm on the
-  /// baseline), in 0.37 ms a baseline move; halving it quarters the deviation
+  /// baseline), in 0.39 ms a baseline move; halving it quarters the deviation
   /// (docs/machine-model.md, "Integration").
   double exponential_max_step_s = 5e-4;
   /// CVODE settings. Here `absolute_tolerance` bounds each state's share of the tip error [m]
