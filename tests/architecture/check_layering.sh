@@ -36,6 +36,7 @@ layer_of() {
       | cmmcomp/dynamics/* | cmmcomp/doe/*) echo twin ;;
     include/cmmcomp/training/* | src/training/* | cmmcomp/training/*) echo training ;;
     include/cmmcomp/measure/* | src/measure/* | cmmcomp/measure/*) echo measure ;;
+    include/cmmcomp/planning/* | src/planning/* | cmmcomp/planning/*) echo planning ;;
     src/capi/*) echo capi ;;
     plugins/*/include/* | plugins/*/src/* | cmmcomp/plugins/*) echo plugins ;;
     tools/serving/*) echo serving ;;
@@ -52,6 +53,7 @@ allowed() {
     twin) echo "core io twin" ;;
     training) echo "core io twin training" ;;
     measure) echo "core io twin measure" ;;
+    planning) echo "core io planning" ;;
     capi) echo "core io" ;;
     plugins) echo "core plugins" ;;
     serving) echo "core io plugins serving" ;;

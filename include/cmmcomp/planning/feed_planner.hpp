@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+/// @file The feed planner: the fastest probing setting whose point error meets a budget at 95 %,
+/// with compensation and without (docs/planner.md).
+///
+/// The planner chooses PV, PD, AV and AD (the model's inputs) inside the intersection of the
+/// machine's limits, the feature's geometry and the model's training ranges; PA and AA stay at
+/// the values the model was trained with, because the model cannot say what another
+/// acceleration does. It minimises the time per point (MoveProfile: from the start of the
+/// positioning move to the touch, with the controller's dwell and smoothing) subject to, at
+/// every carriage position Y of the program:
+///   compensated:    U95(RAE)              ≤ budget   (the corrected point's error, 95 %)
+///   uncompensated:  |RAE| + U95(RAE)      ≤ budget   (the raw touch error, 95 %)
+///   both:           |MAE| + U95(MAE)      ≤ the MAE limit (overtravel and stylus load).
+/// Setup-time code (allocates, throws ConfigError): it runs before a program, not in it.
+#pragma once
+
+#include <cmmcomp/io/compensation_model_file.hpp>
+#include <string>
+#include <vector>
+
+namespace cmmcomp::planning {
+
+/// A closed interval of one setting value, in its unit.
+struct Interval {
+  double lo = 0.0;
+  double hi = 0.0;
+};
+
+/// The settings of one probing point (mm, mm/s, mm/s²), as MoveRequest and cmmcomp-vc take them.
+struct FeedSetting {
+  double pv_mm_s = 0.0;
+  double pa_mm_s2 = 0.0;
+  double pd_mm = 0.0;
+  double av_mm_s = 0.0;
+  double aa_mm_s2 = 0.0;
+  double ad_mm = 0.0;
+};
+
+/// What the planner is asked. Every limit is intersected with the model's training range of the
+/// same input; an empty intersection is a ConfigError.
+struct PlanProblem {
+  double budget_um = 0.0;  ///< bound on |point error| at 95 % [µm], > 0
+  /// Bound on |MAE| + U95(MAE) [µm], > 0: the approach's largest lag, which the probe's
+  /// overtravel and the stylus load allow. Default: generous for a touch-trigger probe.
+  double mae_limit_um = 25.0;
+  Interval pv_mm_s{0.0, 1e9};     ///< the machine's positioning speeds
+  Interval av_mm_s{0.0, 1e9};     ///< the machine's approach speeds
+  Interval pd_mm{0.0, 1e9};       ///< positioning distances the feature allows (lo: its minimum)
+  Interval ad_mm{0.0, 1e9};       ///< approach distances the feature allows (lo: its minimum)
+  Interval pa_mm_s2{0.0, 1e9};    ///< the machine's positioning accelerations (must hold pa_mm_s2)
+  Interval aa_mm_s2{0.0, 1e9};    ///< the machine's approach accelerations (must hold aa_mm_s2)
+  double pa_mm_s2_model = 200.0;  ///< PA the model was trained at (the paper's)
+  double aa_mm_s2_model = 60.0;   ///< AA the model was trained at (the paper's)
+  std::vector<double> y_mm{250.0};  ///< carriage positions the setting must hold at
+  double z_mm = 0.0;                ///< ram position of the program
+  double dwell_s = 0.0;             ///< the controller's settling dwell at the pre-hit point [s]
+  double smoothing_s = 0.0;         ///< the controller's command smoothing [s]
+  /// Points per input of the global grid (>= 2). The local search starts from the fastest
+  /// feasible grid points.
+  int grid_points = 11;
+  /// The local search stops when its step is below this share of each input's range.
+  double tolerance = 1e-4;
+};
+
+/// With or without the model's correction.
+enum class Mode { kCompensated, kUncompensated };
+
+/// One setting judged: its time and the worst of its constraints over the program's Y.
+struct SettingCheck {
+  bool feasible = false;
+  double time_per_point_s = 0.0;
+  /// The 95 % bound of the point error [µm]: U95(RAE) compensated, |RAE| + U95(RAE) without;
+  /// the largest over the Y positions.
+  double point_bound_um = 0.0;
+  double mae_bound_um = 0.0;  ///< |MAE| + U95(MAE), largest over Y [µm]
+  double worst_y_mm = 0.0;    ///< where point_bound_um is reached
+  double rae_um = 0.0;        ///< the model's RAE at worst_y_mm [µm]
+  double u95_rae_um = 0.0;    ///< its U95 [µm]
+};
+
+/// The answer for one mode.
+struct PlanResult {
+  Mode mode = Mode::kCompensated;
+  bool found = false;  ///< false: no setting in the domain meets the budget
+  FeedSetting setting;
+  SettingCheck check;
+  long evaluations = 0;  ///< settings judged (each at every Y)
+  /// When !found: the smallest point bound any grid setting reached and where, so the user sees
+  /// how far the budget is.
+  double best_point_bound_um = 0.0;
+  FeedSetting best_point_setting;
+};
+
+/// Plans settings for one model (see the file comment).
+class FeedPlanner {
+ public:
+  /// Throws ConfigError when the model has no interval calibration (a format-1 file), when a
+  /// limit or the budget is not a positive finite value, when the model's PA/AA lie outside the
+  /// machine's, or when a limit does not overlap the model's training range.
+  FeedPlanner(const io::CompensationModelFile& model, PlanProblem problem);
+
+  /// The search box: the problem's limits within the model's ranges.
+  Interval pv_mm_s() const { return pv_; }
+  Interval pd_mm() const { return pd_; }
+  Interval av_mm_s() const { return av_; }
+  Interval ad_mm() const { return ad_; }
+  const PlanProblem& problem() const { return problem_; }
+
+  /// Time per point of `s` [s], from its planned profiles (dwell and smoothing included).
+  double time_per_point_s(const FeedSetting& s) const;
+  /// Judges `s` in `mode`.
+  SettingCheck check(const FeedSetting& s, Mode mode) const;
+  /// The fastest feasible setting: the global grid, then a pattern search from its best points.
+  PlanResult plan(Mode mode) const;
+  /// The fastest feasible setting of an n^4 grid over the box and nothing else: the reference the
+  /// planner is tested against.
+  PlanResult brute_force(Mode mode, int points_per_input) const;
+
+  /// Identifiers of the model (first 16 hex digits of its checksum) and of its input set.
+  const std::string& model_id() const { return model_id_; }
+  int model_inputs() const { return inputs_; }
+
+ private:
+  FeedSetting at(double pv, double pd, double av, double ad) const;
+  PlanResult grid_search(Mode mode, int n, std::vector<FeedSetting>* best_feasible) const;
+
+  PlanProblem problem_;
+  compensation::MoveCompensator compensator_;
+  Interval pv_, pd_, av_, ad_;
+  std::string model_id_;
+  int inputs_ = 0;
+};
+
+/// "compensated" / "uncompensated".
+const char* to_string(Mode mode);
+
+}  // namespace cmmcomp::planning

@@ -1,0 +1,323 @@
+// SPDX-License-Identifier: MIT
+/// @file The feed planner (docs/planner.md): global grid, then a pattern search.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cmmcomp/detail/splitmix64.hpp>
+#include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/motion/move_profile.hpp>
+#include <cmmcomp/planning/feed_planner.hpp>
+#include <limits>
+#include <string>
+#include <utility>
+#include <variant>
+
+namespace cmmcomp::planning {
+namespace {
+
+bool positive_finite(double v) { return std::isfinite(v) && v > 0.0; }
+
+void require_interval(const Interval& i, const char* what) {
+  if (!(std::isfinite(i.lo) && std::isfinite(i.hi) && i.lo >= 0.0 && i.lo <= i.hi)) {
+    throw ConfigError(std::string("planner: the range of ") + what +
+                      " must be finite with 0 <= lo <= hi");
+  }
+}
+
+/// The model's training range of input `column`, or none for an input the model does not have.
+bool model_range(const io::CompensationModelFile& file, const char* column, Interval& out) {
+  return std::visit(
+      [&](const auto& f) {
+        for (std::size_t i = 0; i < f.input_names.size(); ++i) {
+          if (f.input_names[i] == column) {
+            out = {f.model.ranges[i].lo, f.model.ranges[i].hi};
+            return true;
+          }
+        }
+        return false;
+      },
+      file);
+}
+
+Interval intersect(const io::CompensationModelFile& file,
+                   const char* column,
+                   const char* label,
+                   const Interval& limit) {
+  Interval model{};
+  if (!model_range(file, column, model)) {
+    throw ConfigError(std::string("planner: the model has no input ") + column);
+  }
+  const Interval box{std::max(limit.lo, model.lo), std::min(limit.hi, model.hi)};
+  if (box.lo > box.hi) {
+    throw ConfigError(std::string("planner: ") + label + " limits [" + std::to_string(limit.lo) +
+                      ", " + std::to_string(limit.hi) + "] miss the model's training range [" +
+                      std::to_string(model.lo) + ", " + std::to_string(model.hi) +
+                      "]: the model cannot predict there");
+  }
+  return box;
+}
+
+/// The point at share u of `i`; exactly hi at u = 1, so a grid's last point is inside the
+/// model's range (the compensator checks it strictly).
+double lerp(const Interval& i, double u) { return u >= 1.0 ? i.hi : i.lo + (i.hi - i.lo) * u; }
+
+/// Order of candidates: feasible before infeasible, then faster first.
+bool better(const SettingCheck& a, const SettingCheck& b) {
+  if (a.feasible != b.feasible) return a.feasible;
+  return a.time_per_point_s < b.time_per_point_s;
+}
+
+}  // namespace
+
+const char* to_string(Mode mode) {
+  return mode == Mode::kCompensated ? "compensated" : "uncompensated";
+}
+
+FeedPlanner::FeedPlanner(const io::CompensationModelFile& model, PlanProblem problem)
+    : problem_(std::move(problem)) {
+  const bool calibrated = std::visit([](const auto& f) { return f.interval.available(); }, model);
+  if (!calibrated) {
+    throw ConfigError(
+        "planner: the model has no interval calibration (a format-1 model file); retrain it with "
+        "cmmcomp-train to get U95, which every bound of the planner needs");
+  }
+  if (!positive_finite(problem_.budget_um)) {
+    throw ConfigError("planner: the budget must be a positive number of µm");
+  }
+  if (!positive_finite(problem_.mae_limit_um)) {
+    throw ConfigError("planner: the MAE limit must be a positive number of µm");
+  }
+  for (const auto& [i, what] : {std::pair{problem_.pv_mm_s, "PV"},
+                                std::pair{problem_.av_mm_s, "AV"},
+                                std::pair{problem_.pd_mm, "PD"},
+                                std::pair{problem_.ad_mm, "AD"},
+                                std::pair{problem_.pa_mm_s2, "PA"},
+                                std::pair{problem_.aa_mm_s2, "AA"}}) {
+    require_interval(i, what);
+  }
+  if (!positive_finite(problem_.pa_mm_s2_model) || !positive_finite(problem_.aa_mm_s2_model)) {
+    throw ConfigError("planner: the model's PA and AA must be positive");
+  }
+  if (problem_.pa_mm_s2_model < problem_.pa_mm_s2.lo ||
+      problem_.pa_mm_s2_model > problem_.pa_mm_s2.hi ||
+      problem_.aa_mm_s2_model < problem_.aa_mm_s2.lo ||
+      problem_.aa_mm_s2_model > problem_.aa_mm_s2.hi) {
+    throw ConfigError(
+        "planner: the machine's PA/AA ranges do not hold the accelerations the model was trained "
+        "at (PA " +
+        std::to_string(problem_.pa_mm_s2_model) + ", AA " +
+        std::to_string(problem_.aa_mm_s2_model) + " mm/s²)");
+  }
+  if (problem_.y_mm.empty()) throw ConfigError("planner: no carriage position Y");
+  for (double y : problem_.y_mm) {
+    if (!std::isfinite(y)) throw ConfigError("planner: a carriage position Y is not finite");
+  }
+  if (!std::isfinite(problem_.z_mm) || !(problem_.dwell_s >= 0.0) ||
+      !(problem_.smoothing_s >= 0.0) || !std::isfinite(problem_.dwell_s) ||
+      !std::isfinite(problem_.smoothing_s)) {
+    throw ConfigError(
+        "planner: Z, the dwell and the smoothing must be finite (dwell, smoothing >= 0)");
+  }
+  if (problem_.grid_points < 2 || problem_.grid_points > 201) {
+    throw ConfigError("planner: grid points per input must be in [2, 201]");
+  }
+  if (!(problem_.tolerance > 0.0 && problem_.tolerance < 0.5)) {
+    throw ConfigError("planner: the tolerance must be in (0, 0.5)");
+  }
+  pv_ = intersect(model, "pv_mm_s", "PV", problem_.pv_mm_s);
+  pd_ = intersect(model, "pd_mm", "PD", problem_.pd_mm);
+  av_ = intersect(model, "av_mm_s", "AV", problem_.av_mm_s);
+  ad_ = intersect(model, "ad_mm", "AD", problem_.ad_mm);
+  Interval y_range{};
+  if (model_range(model, "y_mm", y_range)) {
+    for (double y : problem_.y_mm) {
+      if (y < y_range.lo || y > y_range.hi) {
+        throw ConfigError("planner: Y " + std::to_string(y) +
+                          " mm is outside the model's training range [" +
+                          std::to_string(y_range.lo) + ", " + std::to_string(y_range.hi) + "]");
+      }
+    }
+  }
+  std::string why;
+  if (!ok(io::publish(compensator_, 0, model, &why))) {
+    throw ConfigError("planner: the model cannot be served: " + why);
+  }
+  model_id_ = io::model_id(model);
+  inputs_ = io::model_inputs(model);
+}
+
+FeedSetting FeedPlanner::at(double pv, double pd, double av, double ad) const {
+  return FeedSetting{pv, problem_.pa_mm_s2_model, pd, av, problem_.aa_mm_s2_model, ad};
+}
+
+double FeedPlanner::time_per_point_s(const FeedSetting& s) const {
+  motion::ProbingMove move =
+      motion::probing_move_mm(s.pv_mm_s, s.pa_mm_s2, s.pd_mm, s.av_mm_s, s.aa_mm_s2, s.ad_mm);
+  move.dwell = problem_.dwell_s;
+  move.smoothing = problem_.smoothing_s;
+  motion::MoveProfile profile;
+  if (!ok(motion::MoveProfile::plan(move, profile))) {
+    return std::numeric_limits<double>::infinity();  // not a move: never chosen
+  }
+  return profile.instants().touch;
+}
+
+SettingCheck FeedPlanner::check(const FeedSetting& s, Mode mode) const {
+  SettingCheck c;
+  c.time_per_point_s = time_per_point_s(s);
+  c.feasible = std::isfinite(c.time_per_point_s);
+  c.point_bound_um = -1.0;
+  for (double y : problem_.y_mm) {
+    compensation::MoveRequest m;
+    m.pv_mm_s = s.pv_mm_s;
+    m.pa_mm_s2 = s.pa_mm_s2;
+    m.pd_mm = s.pd_mm;
+    m.av_mm_s = s.av_mm_s;
+    m.aa_mm_s2 = s.aa_mm_s2;
+    m.ad_mm = s.ad_mm;
+    m.y_mm = y;
+    m.z_mm = problem_.z_mm;
+    m.direction = {1.0, 0.0, 0.0};
+    compensation::Correction r;
+    // Outside the training box the prediction is not trusted: such a setting is infeasible.
+    if (compensator_.before_approach(m, r) != Status::kOk) {
+      c.feasible = false;
+      continue;
+    }
+    const double u_rae = r.u95_um[3];
+    const double bound = mode == Mode::kCompensated ? u_rae : std::fabs(r.rae_um) + u_rae;
+    const double mae_bound = std::fabs(r.mae_um) + r.u95_um[2];
+    if (bound > c.point_bound_um) {
+      c.point_bound_um = bound;
+      c.worst_y_mm = y;
+      c.rae_um = r.rae_um;
+      c.u95_rae_um = u_rae;
+    }
+    c.mae_bound_um = std::max(c.mae_bound_um, mae_bound);
+  }
+  c.feasible = c.feasible && c.point_bound_um >= 0.0 && c.point_bound_um <= problem_.budget_um &&
+               c.mae_bound_um <= problem_.mae_limit_um;
+  return c;
+}
+
+PlanResult FeedPlanner::grid_search(Mode mode, int n, std::vector<FeedSetting>* best) const {
+  constexpr std::size_t kStarts = 16;
+  PlanResult r;
+  r.mode = mode;
+  r.best_point_bound_um = std::numeric_limits<double>::infinity();
+  // The fastest feasible grid points, each the best of its own (PV, AV) column, as the local
+  // search's starts: distinct starts cover separate feasible pockets.
+  std::vector<std::pair<SettingCheck, FeedSetting>> starts;
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      for (int c = 0; c < n; ++c) {
+        for (int d = 0; d < n; ++d) {
+          const FeedSetting s = at(lerp(pv_, double(a) / (n - 1)),
+                                   lerp(pd_, double(b) / (n - 1)),
+                                   lerp(av_, double(c) / (n - 1)),
+                                   lerp(ad_, double(d) / (n - 1)));
+          const SettingCheck k = check(s, mode);
+          ++r.evaluations;
+          if (k.point_bound_um >= 0.0 && k.point_bound_um < r.best_point_bound_um) {
+            r.best_point_bound_um = k.point_bound_um;
+            r.best_point_setting = s;
+          }
+          if (k.feasible && (!r.found || better(k, r.check))) {
+            r.found = true;
+            r.check = k;
+            r.setting = s;
+          }
+          if (k.feasible) starts.emplace_back(k, s);
+        }
+      }
+    }
+  }
+  if (best != nullptr) {
+    std::sort(starts.begin(), starts.end(), [](const auto& x, const auto& y) {
+      return x.first.time_per_point_s < y.first.time_per_point_s;
+    });
+    best->clear();
+    for (const auto& s : starts) {
+      if (best->size() >= kStarts) break;
+      best->push_back(s.second);
+    }
+  }
+  return r;
+}
+
+PlanResult FeedPlanner::brute_force(Mode mode, int points_per_input) const {
+  if (points_per_input < 2) throw ConfigError("planner: brute force needs >= 2 points per input");
+  return grid_search(mode, points_per_input, nullptr);
+}
+
+PlanResult FeedPlanner::plan(Mode mode) const {
+  std::vector<FeedSetting> starts;
+  PlanResult r = grid_search(mode, problem_.grid_points, &starts);
+  if (!r.found) return r;
+  // Pattern search from each start: poll all 80 neighbours on the step's lattice (a feasible
+  // region's edge is often diagonal: faster PV needs a longer PD); move to the fastest feasible
+  // poll; halve the step when none is faster; stop below the tolerance.
+  const std::array<Interval, 4> box{pv_, pd_, av_, ad_};
+  // Every direction of the 3^4 - 1 neighbours (one, two, three or four inputs at once).
+  std::vector<std::array<double, 4>> directions;
+  for (int code = 0; code < 81; ++code) {
+    std::array<double, 4> d{};
+    int c = code;
+    for (double& k : d) {
+      k = c % 3 - 1;
+      c /= 3;
+    }
+    if (d != std::array<double, 4>{0, 0, 0, 0}) directions.push_back(d);
+  }
+  // And, fresh at every poll, directions drawn at random (seeded: the plan is reproducible):
+  // where the feasible edge runs at an angle no lattice direction follows, the lattice alone
+  // stalls short of the optimum (the brute-force test caught it: PV against AV on an edge).
+  constexpr std::size_t kLattice = 80;
+  constexpr std::size_t kRandom = 48;
+  directions.resize(kLattice + kRandom);
+  detail::SplitMix64 random{0x9e3779b97f4a7c15ULL};
+  const auto coords = [](const FeedSetting& s) {
+    return std::array<double, 4>{s.pv_mm_s, s.pd_mm, s.av_mm_s, s.ad_mm};
+  };
+  for (const FeedSetting& start : starts) {
+    std::array<double, 4> x = coords(start);
+    SettingCheck here = check(start, mode);
+    ++r.evaluations;
+    double h = 0.5 / (problem_.grid_points - 1);  // share of each range
+    // At most 60 halvings of h, and each accepted move strictly lowers the time: bounded.
+    for (int iteration = 0; iteration < 10000 && h >= problem_.tolerance; ++iteration) {
+      SettingCheck best_poll = here;
+      std::array<double, 4> best_x = x;
+      for (std::size_t k = kLattice; k < directions.size(); ++k) {
+        for (double& c : directions[k]) c = random.uniform(-1.0, 1.0);
+      }
+      for (const auto& d : directions) {
+        std::array<double, 4> y = x;
+        for (std::size_t k = 0; k < 4; ++k) {
+          const double width = box[k].hi - box[k].lo;
+          y[k] = std::clamp(x[k] + d[k] * h * width, box[k].lo, box[k].hi);
+        }
+        if (y == x) continue;
+        const SettingCheck c = check(at(y[0], y[1], y[2], y[3]), mode);
+        ++r.evaluations;
+        if (c.feasible && c.time_per_point_s < best_poll.time_per_point_s - 1e-12) {
+          best_poll = c;
+          best_x = y;
+        }
+      }
+      if (best_x == x) {
+        h *= 0.5;
+      } else {
+        x = best_x;
+        here = best_poll;
+      }
+    }
+    if (better(here, r.check)) {
+      r.check = here;
+      r.setting = at(x[0], x[1], x[2], x[3]);
+    }
+  }
+  return r;
+}
+
+}  // namespace cmmcomp::planning

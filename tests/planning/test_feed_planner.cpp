@@ -1,0 +1,196 @@
+// SPDX-License-Identifier: MIT
+/// @file The feed planner against an exhaustive grid search, its constraints, and its errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/io/default_model.hpp>
+#include <cmmcomp/planning/feed_planner.hpp>
+#include <string>
+
+namespace {
+
+using cmmcomp::io::CompensationModelFile;
+using cmmcomp::planning::FeedPlanner;
+using cmmcomp::planning::FeedSetting;
+using cmmcomp::planning::Mode;
+using cmmcomp::planning::PlanProblem;
+
+CompensationModelFile shipped_model() {
+  return CompensationModelFile(cmmcomp::io::default_model_file());
+}
+
+CompensationModelFile shipped_y_model() {
+  return cmmcomp::io::load_compensation_model(std::string(CMMCOMP_SOURCE_DIR) +
+                                              "/data/models/default-y.json");
+}
+
+/// A small domain inside the model's ranges, as the brute force's reference can cover finely.
+PlanProblem small_domain(double budget_um) {
+  PlanProblem p;
+  p.budget_um = budget_um;
+  p.pv_mm_s = {40, 70};
+  p.pd_mm = {40, 55};
+  p.av_mm_s = {8, 12};
+  p.ad_mm = {5, 9};
+  p.dwell_s = 0.8;
+  p.smoothing_s = 0.04;
+  p.grid_points = 5;
+  return p;
+}
+
+std::string text(const FeedSetting& s) {
+  return "PV " + std::to_string(s.pv_mm_s) + " PD " + std::to_string(s.pd_mm) + " AV " +
+         std::to_string(s.av_mm_s) + " AD " + std::to_string(s.ad_mm);
+}
+
+/// Re-judges the planner's answer and compares it with a 21^4 exhaustive grid: the planner is
+/// feasible and at least as fast (it searches between the grid's points too).
+void expect_at_least_as_good_as_brute_force(const FeedPlanner& planner, Mode mode) {
+  const auto planned = planner.plan(mode);
+  const auto brute = planner.brute_force(mode, 21);
+  ASSERT_TRUE(brute.found) << "the test's budget must leave feasible settings";
+  ASSERT_TRUE(planned.found);
+  const auto again = planner.check(planned.setting, mode);
+  EXPECT_TRUE(again.feasible);
+  EXPECT_LE(again.point_bound_um, planner.problem().budget_um);
+  EXPECT_LE(again.mae_bound_um, planner.problem().mae_limit_um);
+  EXPECT_DOUBLE_EQ(again.time_per_point_s, planned.check.time_per_point_s);
+  EXPECT_LE(planned.check.time_per_point_s, brute.check.time_per_point_s + 1e-9)
+      << "planned " << planned.check.time_per_point_s << " s at " << text(planned.setting)
+      << ", brute force " << brute.check.time_per_point_s << " s at " << text(brute.setting);
+  // And it is not far from the exhaustive optimum's neighbourhood: within one grid step's time.
+  EXPECT_GT(planned.check.time_per_point_s, brute.check.time_per_point_s - 0.05);
+}
+
+const FeedSetting kFastestCorner{70, 200, 40, 12, 60, 5};
+const FeedSetting kSlowestCorner{40, 200, 55, 8, 60, 9};
+
+/// A budget halfway between the bounds of the box's fastest and slowest corners, so that the
+/// constraint is active at the optimum (the fastest corner is cut off).
+PlanProblem cutting_budget(const CompensationModelFile& model, PlanProblem p, Mode mode) {
+  p.budget_um = 1e9;
+  const FeedPlanner wide(model, p);
+  const double fast = wide.check(kFastestCorner, mode).point_bound_um;
+  const double slow = wide.check(kSlowestCorner, mode).point_bound_um;
+  EXPECT_GT(fast, slow) << "the fast corner must have the larger bound for this test";
+  p.budget_um = 0.5 * (fast + slow);
+  return p;
+}
+
+TEST(FeedPlanner, UncompensatedMatchesBruteForceWhereTheBudgetCutsTheDomain) {
+  // Uncompensated, the shipped model's |RAE| + U95 is about 4.9 µm at the slow corner of this
+  // box and 5.3 µm at the fast one.
+  const auto model = shipped_model();
+  const FeedPlanner planner(model, cutting_budget(model, small_domain(1), Mode::kUncompensated));
+  EXPECT_FALSE(planner.check(kFastestCorner, Mode::kUncompensated).feasible);
+  expect_at_least_as_good_as_brute_force(planner, Mode::kUncompensated);
+}
+
+TEST(FeedPlanner, CompensatedMaeLimitMatchesBruteForce) {
+  // Compensated, U95(RAE) is the same everywhere inside the domain (docs/uncertainty.md), so
+  // the MAE bound is what can cut the domain: put its limit inside its range here.
+  PlanProblem p = small_domain(2.0);
+  p.mae_limit_um = 1e9;
+  const FeedPlanner wide(shipped_model(), p);
+  const double fastest_mae = wide.check(kFastestCorner, Mode::kCompensated).mae_bound_um;
+  const double slowest_mae = wide.check(kSlowestCorner, Mode::kCompensated).mae_bound_um;
+  ASSERT_GT(fastest_mae, slowest_mae);
+  p.mae_limit_um = 0.5 * (fastest_mae + slowest_mae);
+  const FeedPlanner planner(shipped_model(), p);
+  EXPECT_FALSE(planner.check(kFastestCorner, Mode::kCompensated).feasible);
+  expect_at_least_as_good_as_brute_force(planner, Mode::kCompensated);
+}
+
+TEST(FeedPlanner, FiveInputModelHoldsAtEveryY) {
+  PlanProblem p = small_domain(1);
+  p.y_mm = {0, 250, 500};
+  const auto model = shipped_y_model();
+  p = cutting_budget(model, p, Mode::kUncompensated);
+  const FeedPlanner planner(model, p);
+  const auto planned = planner.plan(Mode::kUncompensated);
+  ASSERT_TRUE(planned.found);
+  for (double y : p.y_mm) {
+    PlanProblem one = p;
+    one.y_mm = {y};
+    const FeedPlanner at_y(model, one);
+    EXPECT_TRUE(at_y.check(planned.setting, Mode::kUncompensated).feasible) << "Y " << y;
+  }
+  expect_at_least_as_good_as_brute_force(planner, Mode::kUncompensated);
+}
+
+TEST(FeedPlanner, WithoutAnyFeasibleSettingItSaysSoAndHowFarTheBudgetIs) {
+  const FeedPlanner planner(shipped_model(), small_domain(0.5));
+  const auto r = planner.plan(Mode::kUncompensated);
+  EXPECT_FALSE(r.found);
+  EXPECT_GT(r.best_point_bound_um, 0.5);
+  EXPECT_TRUE(std::isfinite(r.best_point_bound_um));
+  const auto again = planner.check(r.best_point_setting, Mode::kUncompensated);
+  EXPECT_DOUBLE_EQ(again.point_bound_um, r.best_point_bound_um);
+}
+
+TEST(FeedPlanner, TimePerPointIsTheTrapezoidsWithoutDwellOrSmoothing) {
+  PlanProblem p = small_domain(1.0);
+  p.dwell_s = 0;
+  p.smoothing_s = 0;
+  const FeedPlanner planner(shipped_model(), p);
+  // PV 40 over PD 50 at PA 200 cruises (50 > 40²/200 = 8); AV 10 over AD 6 at AA 60 too.
+  const double t = planner.time_per_point_s(FeedSetting{40, 200, 50, 10, 60, 6});
+  EXPECT_NEAR(t, 50.0 / 40 + 40.0 / 200 + 6.0 / 10 + 10.0 / (2 * 60), 1e-9);
+  p.dwell_s = 0.8;
+  const FeedPlanner dwelling(shipped_model(), p);
+  EXPECT_NEAR(dwelling.time_per_point_s(FeedSetting{40, 200, 50, 10, 60, 6}), t + 0.8, 1e-9);
+}
+
+TEST(FeedPlanner, TheSearchBoxIsTheLimitsWithinTheModelsRanges) {
+  PlanProblem p;
+  p.budget_um = 1;
+  p.pv_mm_s = {0, 60};  // model: 40–100
+  p.ad_mm = {7, 1000};  // model: 5–15
+  const FeedPlanner planner(shipped_model(), p);
+  EXPECT_EQ(planner.pv_mm_s().lo, 40);
+  EXPECT_EQ(planner.pv_mm_s().hi, 60);
+  EXPECT_EQ(planner.ad_mm().lo, 7);
+  EXPECT_EQ(planner.ad_mm().hi, 15);
+  EXPECT_EQ(planner.pd_mm().lo, 40);
+  EXPECT_EQ(planner.av_mm_s().hi, 16);
+}
+
+void expect_config_error(const CompensationModelFile& model,
+                         const PlanProblem& p,
+                         const std::string& words) {
+  try {
+    const FeedPlanner planner(model, p);
+    ADD_FAILURE() << "no error; expected one with '" << words << "'";
+  } catch (const cmmcomp::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(FeedPlanner, BadProblemsAreClearErrors) {
+  PlanProblem p = small_domain(1.0);
+  auto bad = p;
+  bad.budget_um = 0;
+  expect_config_error(shipped_model(), bad, "budget");
+  bad = p;
+  bad.budget_um = std::nan("");
+  expect_config_error(shipped_model(), bad, "budget");
+  bad = p;
+  bad.pv_mm_s = {120, 200};
+  expect_config_error(shipped_model(), bad, "PV limits");
+  bad = p;
+  bad.pa_mm_s2 = {300, 500};
+  expect_config_error(shipped_model(), bad, "trained at");
+  bad = p;
+  bad.y_mm = {600};
+  expect_config_error(shipped_y_model(), bad, "outside the model's training range");
+  bad = p;
+  bad.ad_mm = {9, 3};
+  expect_config_error(shipped_model(), bad, "range of AD");
+
+  auto v1 = cmmcomp::io::default_model_file();
+  v1.interval = {};
+  expect_config_error(CompensationModelFile(v1), p, "no interval calibration");
+}
+
+}  // namespace

@@ -1,0 +1,325 @@
+// SPDX-License-Identifier: MIT
+/// @file cmmcomp-plan: the feed planner (docs/planner.md). From a model with its U95, a point
+/// error budget, the machine's limits and the feature's geometry, the fastest probing setting
+/// with compensation and the fastest without, their times per point and the ratio.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cmmcomp/dynamics/machine.hpp>
+#include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/io/default_model.hpp>
+#include <cmmcomp/planning/feed_planner.hpp>
+#include <cstdio>
+#include <exception>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace planning = cmmcomp::planning;
+
+struct Options {
+  std::string model;
+  double budget_um = 0.0;
+  std::string mpe_e = "1.9,300";
+  double length_mm = 20.0;
+  double share = 0.5;
+  double mae_limit_um = 25.0;
+  std::string pv = "0:1e9";
+  std::string av = "0:1e9";
+  std::string pa = "0:1e9";
+  std::string aa = "0:1e9";
+  std::string pd = "0:1e9";
+  std::string ad = "0:1e9";
+  std::string y = "250";
+  double z_mm = 0.0;
+  std::string machine;
+  int grid = 11;
+  int brute_force = 0;
+  bool json = false;
+};
+
+double parse_number(const std::string& text, const std::string& option) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) {
+    throw cmmcomp::ConfigError(option + ": '" + text + "' is not a number");
+  }
+  return v;
+}
+
+/// "LO:HI" → an interval.
+planning::Interval parse_interval(const std::string& text, const std::string& option) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) {
+    throw cmmcomp::ConfigError(option + ": '" + text + "' is not LO:HI");
+  }
+  const planning::Interval i{parse_number(text.substr(0, colon), option),
+                             parse_number(text.substr(colon + 1), option)};
+  if (i.lo < 0 || i.lo > i.hi) {
+    throw cmmcomp::ConfigError(option + ": '" + text + "' needs 0 <= LO <= HI");
+  }
+  return i;
+}
+
+std::vector<double> parse_list(const std::string& text, const std::string& option) {
+  std::vector<double> v;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', pos), text.size());
+    v.push_back(parse_number(text.substr(pos, comma - pos), option));
+    pos = comma + 1;
+  }
+  return v;
+}
+
+nlohmann::json setting_json(const planning::FeedSetting& s) {
+  return {{"pv_mm_s", s.pv_mm_s},
+          {"pa_mm_s2", s.pa_mm_s2},
+          {"pd_mm", s.pd_mm},
+          {"av_mm_s", s.av_mm_s},
+          {"aa_mm_s2", s.aa_mm_s2},
+          {"ad_mm", s.ad_mm}};
+}
+
+nlohmann::json result_json(const planning::PlanResult& r) {
+  nlohmann::json j = {
+      {"mode", planning::to_string(r.mode)}, {"found", r.found}, {"evaluations", r.evaluations}};
+  if (r.found) {
+    j["setting"] = setting_json(r.setting);
+    j["vc_setting"] = fmt::format("pv={:.6g},pa={:.6g},pd={:.6g},av={:.6g},aa={:.6g},ad={:.6g}",
+                                  r.setting.pv_mm_s,
+                                  r.setting.pa_mm_s2,
+                                  r.setting.pd_mm,
+                                  r.setting.av_mm_s,
+                                  r.setting.aa_mm_s2,
+                                  r.setting.ad_mm);
+    j["time_per_point_s"] = r.check.time_per_point_s;
+    j["point_bound_um"] = r.check.point_bound_um;
+    j["mae_bound_um"] = r.check.mae_bound_um;
+    j["worst_y_mm"] = r.check.worst_y_mm;
+    j["rae_um"] = r.check.rae_um;
+    j["u95_rae_um"] = r.check.u95_rae_um;
+  } else {
+    j["best_point_bound_um"] = r.best_point_bound_um;
+    j["best_point_setting"] = setting_json(r.best_point_setting);
+  }
+  return j;
+}
+
+std::string row(const planning::PlanResult& r) {
+  const auto& s = r.setting;
+  if (!r.found) {
+    return fmt::format(
+        "| {} | none in the domain meets the budget: the smallest bound is {:.3f} µm "
+        "(PV {:.4g}, PD {:.4g}, AV {:.4g}, AD {:.4g}) | | | | | | | |\n",
+        planning::to_string(r.mode),
+        r.best_point_bound_um,
+        r.best_point_setting.pv_mm_s,
+        r.best_point_setting.pd_mm,
+        r.best_point_setting.av_mm_s,
+        r.best_point_setting.ad_mm);
+  }
+  return fmt::format(
+      "| {} | {:.2f} | {:.0f} | {:.2f} | {:.3f} | {:.0f} | {:.3f} | {:.3f} | {:.3f} (Y {:.0f}) | "
+      "{:.2f} |\n",
+      planning::to_string(r.mode),
+      s.pv_mm_s,
+      s.pa_mm_s2,
+      s.pd_mm,
+      s.av_mm_s,
+      s.aa_mm_s2,
+      s.ad_mm,
+      r.check.time_per_point_s,
+      r.check.point_bound_um,
+      r.check.worst_y_mm,
+      r.check.mae_bound_um);
+}
+
+int run(const Options& opt) {
+  const cmmcomp::io::CompensationModelFile model =
+      opt.model.empty() ? cmmcomp::io::CompensationModelFile(cmmcomp::io::default_model_file())
+                        : cmmcomp::io::load_compensation_model(opt.model);
+  const cmmcomp::dynamics::Machine machine = opt.machine.empty()
+                                                 ? cmmcomp::dynamics::default_machine()
+                                                 : cmmcomp::dynamics::load_machine(opt.machine);
+  planning::PlanProblem p;
+  std::string budget_source;
+  if (opt.budget_um > 0) {
+    p.budget_um = opt.budget_um;
+    budget_source = "given";
+  } else {
+    const std::vector<double> ak = parse_list(opt.mpe_e, "--mpe-e");
+    if (ak.size() != 2 || ak[0] < 0 || ak[1] <= 0) {
+      throw cmmcomp::ConfigError("--mpe-e: give A,K of MPE_E = A + L/K µm, e.g. 1.9,300");
+    }
+    if (!(opt.share > 0 && opt.share <= 1) || !(opt.length_mm >= 0)) {
+      throw cmmcomp::ConfigError("--share must be in (0, 1] and --length >= 0");
+    }
+    p.budget_um = opt.share * (ak[0] + opt.length_mm / ak[1]);
+    budget_source = fmt::format(
+        "{} × MPE_E({} mm), MPE_E = {} + L/{} µm", opt.share, opt.length_mm, ak[0], ak[1]);
+  }
+  p.mae_limit_um = opt.mae_limit_um;
+  p.pv_mm_s = parse_interval(opt.pv, "--pv");
+  p.av_mm_s = parse_interval(opt.av, "--av");
+  p.pa_mm_s2 = parse_interval(opt.pa, "--pa");
+  p.aa_mm_s2 = parse_interval(opt.aa, "--aa");
+  p.pd_mm = parse_interval(opt.pd, "--pd");
+  p.ad_mm = parse_interval(opt.ad, "--ad");
+  p.y_mm = parse_list(opt.y, "--y");
+  p.z_mm = opt.z_mm;
+  p.dwell_s = machine.parameters.controller_dwell_s;
+  p.smoothing_s = machine.parameters.controller_smoothing_s;
+  p.grid_points = opt.grid;
+  const planning::FeedPlanner planner(model, p);
+
+  const planning::PlanResult compensated = planner.plan(planning::Mode::kCompensated);
+  const planning::PlanResult raw = planner.plan(planning::Mode::kUncompensated);
+  const bool both = compensated.found && raw.found;
+  const double ratio = both ? raw.check.time_per_point_s / compensated.check.time_per_point_s : 0;
+
+  std::vector<planning::PlanResult> brute;
+  if (opt.brute_force > 0) {
+    brute.push_back(planner.brute_force(planning::Mode::kCompensated, opt.brute_force));
+    brute.push_back(planner.brute_force(planning::Mode::kUncompensated, opt.brute_force));
+  }
+
+  if (opt.json) {
+    nlohmann::json j = {{"model_id", planner.model_id()},
+                        {"model_inputs", planner.model_inputs()},
+                        {"budget_um", p.budget_um},
+                        {"budget_source", budget_source},
+                        {"mae_limit_um", p.mae_limit_um},
+                        {"y_mm", p.y_mm},
+                        {"dwell_s", p.dwell_s},
+                        {"smoothing_s", p.smoothing_s},
+                        {"box",
+                         {{"pv_mm_s", {planner.pv_mm_s().lo, planner.pv_mm_s().hi}},
+                          {"pd_mm", {planner.pd_mm().lo, planner.pd_mm().hi}},
+                          {"av_mm_s", {planner.av_mm_s().lo, planner.av_mm_s().hi}},
+                          {"ad_mm", {planner.ad_mm().lo, planner.ad_mm().hi}}}},
+                        {"compensated", result_json(compensated)},
+                        {"uncompensated", result_json(raw)},
+                        {"speedup", both ? nlohmann::json(ratio) : nlohmann::json(nullptr)}};
+    if (!brute.empty()) {
+      j["brute_force"] = {{"points_per_input", opt.brute_force},
+                          {"compensated", result_json(brute[0])},
+                          {"uncompensated", result_json(brute[1])}};
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::string out = fmt::format(
+      "cmmcomp-plan: model {} ({} inputs); point budget {:.3f} µm at 95 % ({}); "
+      "|MAE| + U95 <= {} µm\n",
+      planner.model_id(),
+      planner.model_inputs(),
+      p.budget_um,
+      budget_source,
+      p.mae_limit_um);
+  std::string ys;
+  for (double y : p.y_mm) ys += (ys.empty() ? "" : ", ") + fmt::format("{:g}", y);
+  out += fmt::format(
+      "search box (limits within the model's ranges): PV {:g}–{:g} mm/s, PD {:g}–{:g} mm, "
+      "AV {:g}–{:g} mm/s, AD {:g}–{:g} mm; PA {:g}, AA {:g} mm/s² (the model's); Y {} mm; "
+      "dwell {:g} s, smoothing {:g} s\n\n",
+      planner.pv_mm_s().lo,
+      planner.pv_mm_s().hi,
+      planner.pd_mm().lo,
+      planner.pd_mm().hi,
+      planner.av_mm_s().lo,
+      planner.av_mm_s().hi,
+      planner.ad_mm().lo,
+      planner.ad_mm().hi,
+      p.pa_mm_s2_model,
+      p.aa_mm_s2_model,
+      ys,
+      p.dwell_s,
+      p.smoothing_s);
+  out +=
+      "| setting | PV mm/s | PA mm/s² | PD mm | AV mm/s | AA mm/s² | AD mm | time per point s | "
+      "point bound µm (worst Y) | MAE bound µm |\n";
+  out += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  out += row(compensated) + row(raw);
+  if (both) {
+    out += fmt::format(
+        "\ncompensation: {:.2f}x less time per point than the fastest "
+        "uncompensated setting that meets the same budget\n",
+        ratio);
+  } else if (compensated.found) {
+    out +=
+        "\nno uncompensated setting inside the model's domain meets the budget: compensation "
+        "is what makes this budget reachable in the domain\n";
+  }
+  for (const auto& b : brute) {
+    out +=
+        fmt::format("brute force ({}^4 grid, {}): ", opt.brute_force, planning::to_string(b.mode));
+    out += b.found ? fmt::format("{:.4f} s per point\n", b.check.time_per_point_s)
+                   : std::string("none feasible\n");
+  }
+  std::printf("%s", out.c_str());
+  return compensated.found ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "cmmcomp-plan: the fastest probing setting whose point error meets a budget at 95 %, with "
+      "the model's correction and without it (docs/planner.md)."};
+  Options opt;
+  app.add_option("--model",
+                 opt.model,
+                 "model file with an interval calibration (default: the "
+                 "shipped 4-input model)");
+  app.add_option("--budget-um", opt.budget_um, "point error budget [µm] (instead of --mpe-e)");
+  app.add_option("--mpe-e", opt.mpe_e, "A,K of MPE_E = A + L/K µm")->capture_default_str();
+  app.add_option("--length", opt.length_mm, "length L of the MPE_E budget [mm]")
+      ->capture_default_str();
+  app.add_option("--share",
+                 opt.share,
+                 "share of MPE_E(L) one point may use (0.5: a bidirectional length's two touches)")
+      ->capture_default_str();
+  app.add_option("--mae-limit-um", opt.mae_limit_um, "bound on |MAE| + U95(MAE) [µm]")
+      ->capture_default_str();
+  app.add_option("--pv", opt.pv, "the machine's PV range LO:HI [mm/s]")->capture_default_str();
+  app.add_option("--av", opt.av, "the machine's AV range LO:HI [mm/s]")->capture_default_str();
+  app.add_option("--pa", opt.pa, "the machine's PA range LO:HI [mm/s²]")->capture_default_str();
+  app.add_option("--aa", opt.aa, "the machine's AA range LO:HI [mm/s²]")->capture_default_str();
+  app.add_option("--pd", opt.pd, "PD the feature allows LO:HI [mm] (LO: its minimum)")
+      ->capture_default_str();
+  app.add_option("--ad", opt.ad, "AD the feature allows LO:HI [mm] (LO: its minimum)")
+      ->capture_default_str();
+  app.add_option("--y", opt.y, "carriage positions the setting must hold at [mm]")
+      ->capture_default_str();
+  app.add_option("--z", opt.z_mm, "ram position [mm]")->capture_default_str();
+  app.add_option("--machine",
+                 opt.machine,
+                 "machine file whose controller dwell and smoothing count in the time per point "
+                 "(default: the embedded machine)");
+  app.add_option("--grid", opt.grid, "points per input of the global grid")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 201));
+  app.add_option("--brute-force",
+                 opt.brute_force,
+                 "also search an N^4 grid exhaustively and print its best (a check)")
+      ->check(CLI::Range(0, 201));
+  app.add_flag("--json", opt.json, "print the result as JSON");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    return run(opt);
+  } catch (const cmmcomp::ConfigError& e) {
+    std::fprintf(stderr, "cmmcomp-plan: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cmmcomp-plan: %s\n", e.what());
+    return 1;
+  }
+}
