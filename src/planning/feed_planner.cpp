@@ -42,17 +42,21 @@ bool model_range(const io::CompensationModelFile& file, const char* column, Inte
 Interval intersect(const io::CompensationModelFile& file,
                    const char* column,
                    const char* label,
-                   const Interval& limit) {
+                   const Interval& limit,
+                   double edge_margin) {
   Interval model{};
   if (!model_range(file, column, model)) {
     throw ConfigError(std::string("planner: the model has no input ") + column);
   }
+  const double clear = edge_margin * (model.hi - model.lo);
+  model = {model.lo + clear, model.hi - clear};
   const Interval box{std::max(limit.lo, model.lo), std::min(limit.hi, model.hi)};
   if (box.lo > box.hi) {
     throw ConfigError(std::string("planner: ") + label + " limits [" + std::to_string(limit.lo) +
                       ", " + std::to_string(limit.hi) + "] miss the model's training range [" +
-                      std::to_string(model.lo) + ", " + std::to_string(model.hi) +
-                      "]: the model cannot predict there");
+                      std::to_string(model.lo) + ", " + std::to_string(model.hi) + "]" +
+                      (edge_margin > 0 ? " (less the edge margin)" : std::string()) +
+                      ": the model cannot predict there");
   }
   return box;
 }
@@ -118,16 +122,19 @@ FeedPlanner::FeedPlanner(const io::CompensationModelFile& model, PlanProblem pro
     throw ConfigError(
         "planner: Z, the dwell and the smoothing must be finite (dwell, smoothing >= 0)");
   }
+  if (!(problem_.edge_margin >= 0.0 && problem_.edge_margin < 0.45)) {
+    throw ConfigError("planner: the edge margin must be in [0, 0.45)");
+  }
   if (problem_.grid_points < 2 || problem_.grid_points > 201) {
     throw ConfigError("planner: grid points per input must be in [2, 201]");
   }
   if (!(problem_.tolerance > 0.0 && problem_.tolerance < 0.5)) {
     throw ConfigError("planner: the tolerance must be in (0, 0.5)");
   }
-  pv_ = intersect(model, "pv_mm_s", "PV", problem_.pv_mm_s);
-  pd_ = intersect(model, "pd_mm", "PD", problem_.pd_mm);
-  av_ = intersect(model, "av_mm_s", "AV", problem_.av_mm_s);
-  ad_ = intersect(model, "ad_mm", "AD", problem_.ad_mm);
+  pv_ = intersect(model, "pv_mm_s", "PV", problem_.pv_mm_s, problem_.edge_margin);
+  pd_ = intersect(model, "pd_mm", "PD", problem_.pd_mm, problem_.edge_margin);
+  av_ = intersect(model, "av_mm_s", "AV", problem_.av_mm_s, problem_.edge_margin);
+  ad_ = intersect(model, "ad_mm", "AD", problem_.ad_mm, problem_.edge_margin);
   Interval y_range{};
   if (model_range(model, "y_mm", y_range)) {
     for (double y : problem_.y_mm) {

@@ -36,6 +36,7 @@ PlanProblem small_domain(double budget_um) {
   p.dwell_s = 0.8;
   p.smoothing_s = 0.04;
   p.grid_points = 5;
+  p.edge_margin = 0;  // the box as given
   return p;
 }
 
@@ -145,6 +146,7 @@ TEST(FeedPlanner, TimePerPointIsTheTrapezoidsWithoutDwellOrSmoothing) {
 TEST(FeedPlanner, TheSearchBoxIsTheLimitsWithinTheModelsRanges) {
   PlanProblem p;
   p.budget_um = 1;
+  p.edge_margin = 0;
   p.pv_mm_s = {0, 60};  // model: 40–100
   p.ad_mm = {7, 1000};  // model: 5–15
   const FeedPlanner planner(shipped_model(), p);
@@ -154,6 +156,21 @@ TEST(FeedPlanner, TheSearchBoxIsTheLimitsWithinTheModelsRanges) {
   EXPECT_EQ(planner.ad_mm().hi, 15);
   EXPECT_EQ(planner.pd_mm().lo, 40);
   EXPECT_EQ(planner.av_mm_s().hi, 16);
+}
+
+TEST(FeedPlanner, TheEdgeMarginKeepsTheSearchAwayFromTheModelsEdges) {
+  PlanProblem p;
+  p.budget_um = 1;
+  p.edge_margin = 0.2;  // 20 % of each range: PV 40–100 → 52–88, AD 5–15 → 7–13
+  const FeedPlanner planner(shipped_model(), p);
+  EXPECT_DOUBLE_EQ(planner.pv_mm_s().lo, 52);
+  EXPECT_DOUBLE_EQ(planner.pv_mm_s().hi, 88);
+  EXPECT_DOUBLE_EQ(planner.ad_mm().lo, 7);
+  EXPECT_DOUBLE_EQ(planner.ad_mm().hi, 13);
+  const auto r = planner.plan(Mode::kCompensated);
+  ASSERT_TRUE(r.found);
+  EXPECT_GE(r.setting.ad_mm, 7);
+  EXPECT_LE(r.setting.av_mm_s, 8 + 0.8 * 8);
 }
 
 void expect_config_error(const CompensationModelFile& model,
@@ -187,6 +204,13 @@ TEST(FeedPlanner, BadProblemsAreClearErrors) {
   bad = p;
   bad.ad_mm = {9, 3};
   expect_config_error(shipped_model(), bad, "range of AD");
+  bad = p;
+  bad.edge_margin = 0.5;
+  expect_config_error(shipped_model(), bad, "edge margin");
+  bad = p;
+  bad.edge_margin = 0.3;
+  bad.ad_mm = {5, 7};  // the margin leaves AD 8–12
+  expect_config_error(shipped_model(), bad, "less the edge margin");
 
   auto v1 = cmmcomp::io::default_model_file();
   v1.interval = {};

@@ -37,6 +37,7 @@ struct Options {
   double z_mm = 0.0;
   std::string machine;
   int grid = 11;
+  double edge_margin = 0.2;
   int brute_force = 0;
   bool json = false;
 };
@@ -174,6 +175,7 @@ int run(const Options& opt) {
   p.dwell_s = machine.parameters.controller_dwell_s;
   p.smoothing_s = machine.parameters.controller_smoothing_s;
   p.grid_points = opt.grid;
+  p.edge_margin = opt.edge_margin;
   const planning::FeedPlanner planner(model, p);
 
   const planning::PlanResult compensated = planner.plan(planning::Mode::kCompensated);
@@ -196,6 +198,7 @@ int run(const Options& opt) {
                         {"y_mm", p.y_mm},
                         {"dwell_s", p.dwell_s},
                         {"smoothing_s", p.smoothing_s},
+                        {"edge_margin", p.edge_margin},
                         {"box",
                          {{"pv_mm_s", {planner.pv_mm_s().lo, planner.pv_mm_s().hi}},
                           {"pd_mm", {planner.pd_mm().lo, planner.pd_mm().hi}},
@@ -223,9 +226,11 @@ int run(const Options& opt) {
   std::string ys;
   for (double y : p.y_mm) ys += (ys.empty() ? "" : ", ") + fmt::format("{:g}", y);
   out += fmt::format(
-      "search box (limits within the model's ranges): PV {:g}–{:g} mm/s, PD {:g}–{:g} mm, "
+      "search box (limits within the model's ranges, edge margin {:g}): PV {:g}–{:g} mm/s, PD "
+      "{:g}–{:g} mm, "
       "AV {:g}–{:g} mm/s, AD {:g}–{:g} mm; PA {:g}, AA {:g} mm/s² (the model's); Y {} mm; "
       "dwell {:g} s, smoothing {:g} s\n\n",
+      p.edge_margin,
       planner.pv_mm_s().lo,
       planner.pv_mm_s().hi,
       planner.pd_mm().lo,
@@ -300,6 +305,11 @@ int main(int argc, char** argv) {
                  opt.machine,
                  "machine file whose controller dwell and smoothing count in the time per point "
                  "(default: the embedded machine)");
+  app.add_option("--edge-margin",
+                 opt.edge_margin,
+                 "share of each model input's range kept clear at both ends, in [0, 0.45) "
+                 "(docs/planner.md)")
+      ->capture_default_str();
   app.add_option("--grid", opt.grid, "points per input of the global grid")
       ->capture_default_str()
       ->check(CLI::Range(2, 201));

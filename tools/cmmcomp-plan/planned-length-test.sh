@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# planned-length-test.sh --plan-bin PLAN --agent-bin AGENT --vc-bin VC --out DIR
+#                        --model LABEL=PATH [--model LABEL=PATH]... [--plan-model PATH]
+#                        [--y LIST] [--edge-margin M] [-- MORE VC ARGS]
+#
+# The length test at the planner's settings (docs/planner.md): cmmcomp-plan finds, for the model
+# --plan-model (default: the last --model) at the program's Y positions and the budget
+# 0.5 × MPE_E(20 mm) (MPE_E = 1.9 + L/300 µm, the vc's), the fastest compensated setting and
+# the fastest uncompensated setting that meet it. The length test
+# (tools/cmmcomp-vc/run-length-test.sh) then probes fast at the compensated one and, as its
+# reference, at the uncompensated one; when no uncompensated setting in the model's domain meets
+# the budget it keeps the vc's fixed slow reference and says so. Writes DIR/plan.json,
+# DIR/plan.txt and the length test's files; prints both tables.
+set -euo pipefail
+plan_bin=""; agent_bin=""; vc_bin=""; out=""; models=(); plan_model=""; y="0,250,500"; margin=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --plan-bin) plan_bin="$2"; shift 2 ;;
+    --agent-bin) agent_bin="$2"; shift 2 ;;
+    --vc-bin) vc_bin="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --model) models+=("$2"); shift 2 ;;
+    --plan-model) plan_model="$2"; shift 2 ;;
+    --y) y="$2"; shift 2 ;;
+    --edge-margin) margin=(--edge-margin "$2"); shift 2 ;;
+    --) shift; break ;;
+    -h|--help) sed -n '3,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "planned-length-test: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+if [ -z "$plan_bin" ] || [ -z "$agent_bin" ] || [ -z "$vc_bin" ] || [ -z "$out" ] ||
+   [ ${#models[@]} -eq 0 ]; then
+  echo "planned-length-test: --plan-bin, --agent-bin, --vc-bin, --out and --model are required" >&2
+  exit 2
+fi
+[ -n "$plan_model" ] || plan_model="${models[-1]#*=}"
+mkdir -p "$out"
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+
+plan_args=(--model "$plan_model" --y "$y" --mpe-e 1.9,300 --length 20 --share 0.5 "${margin[@]}")
+"$plan_bin" "${plan_args[@]}" | tee "$out/plan.txt"
+"$plan_bin" "${plan_args[@]}" --json > "$out/plan.json"
+# One value of the plan's JSON (a jq-free reader: the JSON is the planner's own, one key a line).
+field() { # field SECTION KEY
+  awk -v s="\"$1\": {" -v k="\"$2\":" '
+    index($0, s) { inside = 1; next }
+    inside && index($0, k) { sub(/^[^:]*: */, ""); sub(/,$/, ""); gsub(/"/, ""); print; exit }
+    inside && /^  }/ { exit }' "$out/plan.json"
+}
+[ "$(field compensated found)" = true ] ||
+  { echo "planned-length-test: no compensated setting meets the budget" >&2; exit 1; }
+vc_args=(--fast "$(field compensated vc_setting)")
+if [ "$(field uncompensated found)" = true ]; then
+  vc_args+=(--slow "$(field uncompensated vc_setting)")
+  echo "reference: the planner's fastest uncompensated setting"
+else
+  echo "reference: the vc's fixed slow setting (no uncompensated setting in the model's domain" \
+       "meets the budget)"
+fi
+echo
+model_args=()
+for m in "${models[@]}"; do model_args+=(--model "$m"); done
+bash "$here/tools/cmmcomp-vc/run-length-test.sh" --agent-bin "$agent_bin" --vc-bin "$vc_bin" \
+  --out "$out" "${model_args[@]}" -- "${vc_args[@]}" --y "$y" "$@"
