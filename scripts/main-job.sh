@@ -12,11 +12,12 @@ mkdir -p "$out"
 bash scripts/install-deps.sh
 cmake --preset release >/dev/null
 cmake --build --preset release --target cmmcomp-sim cmmcomp-train cmmcomp-agent cmmcomp-vc \
-  cmmcomp-measure
+  cmmcomp-measure cmmcomp-plan
 sim="$here/build/release/tools/cmmcomp-sim/cmmcomp-sim"
 train="$here/build/release/tools/cmmcomp-train/cmmcomp-train"
 agent="$here/build/release/tools/cmmcomp-agent/cmmcomp-agent"
 vc="$here/build/release/tools/cmmcomp-vc/cmmcomp-vc"
+plan="$here/build/release/tools/cmmcomp-plan/cmmcomp-plan"
 
 echo
 echo "== 1. The paper's baseline probing move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10) =="
@@ -37,15 +38,16 @@ echo "   (plan L18 x 3 -> recorded traces with tracker noise -> extract -> train
 echo "    each machine's own model next to the default machine's model: docs/training.md)"
 bash scripts/cross-machine.sh "$out/cross-machine"
 echo
-echo "== 5. Length test at speed: the virtual controller asks cmmcomp-agent over Modbus TCP =="
-echo "   (models: the paper's 4 inputs, and 5 inputs with the carriage position Y)"
-bash tools/cmmcomp-vc/run-length-test.sh --agent-bin "$agent" --vc-bin "$vc" \
-  --out "$out/length-test" \
+echo "== 5. Length test at the planner's settings: the virtual controller asks cmmcomp-agent over =="
+echo "   Modbus TCP (cmmcomp-plan plans with the 5-input model for a point budget of"
+echo "   0.5 x MPE_E(20 mm) at Y 0, 250, 500; agents: the paper's 4 inputs, and 5 with Y)"
+bash tools/cmmcomp-plan/planned-length-test.sh --plan-bin "$plan" --agent-bin "$agent" \
+  --vc-bin "$vc" --out "$out/length-test" \
   --model 4in=data/models/default.json --model 5in=data/models/default-y.json
 # The same over SocketCAN where the User-Mode Linux runner works (vcan needs a CAN kernel).
 if bash scripts/uml-run.sh --timeout 60 -- true >/dev/null 2>&1; then
   echo
-  echo "== 6. The same length test over SocketCAN (vcan0 in User-Mode Linux) =="
+  echo "== 6. The length test at the vc's fixed fast setting over SocketCAN (vcan0 in User-Mode Linux) =="
   bash scripts/uml-run.sh --timeout 180 -- bash tools/cmmcomp-vc/run-length-test.sh --can vcan0 \
     --agent-bin "$agent" --vc-bin "$vc" --out "$out/length-test-can" \
     --model 4in=data/models/default.json --model 5in=data/models/default-y.json
