@@ -15,7 +15,10 @@
 #    tests/data/interval-known-unmet.txt is <= 98 %, and every one listed there is still > 98 %
 #    (the list cannot outlive its reason);
 #  - outside the domain, moves are flagged, some parameter's mean U95 grows, and every
-#    parameter's coverage is still >= 92 %.
+#    parameter's coverage is still >= 92 %;
+#  - at the corners of the box less the planner's default edge margin 0.2 (docs/planner.md),
+#    every parameter's coverage is >= 92 % for both shipped models (at margin 0 it is not:
+#    reported, not checked).
 # Usage: bash scripts/interval-coverage.sh [--check] [WORK]   (needs the release tools built)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -84,6 +87,36 @@ done
   --levels "pv=30,80,130;pd=40,60,80;av=8,12,16;ad=3,10,20" -o "$work/wide.csv" > /dev/null
 "$train" eval "$model" "$work/wide.csv" --json > "$work/wide.json"
 row "default twin, wider ranges (PV 30-130, AD 3-20)" "$work/wide.json"
+# Corners: the 2^k corners of the training box less an edge margin m (each input at lo + m·w and
+# hi - m·w), 10 noisy repeats each. U95 is the same everywhere inside the box, and the fit is
+# worst in its corners; the planner keeps its optimum away from them by its edge margin
+# (docs/planner.md), and the check holds both shipped models' coverage there at its default.
+corners() {  # corners MARGIN Y(0|1): --levels of the shrunk box's corners
+  awk -v m="$1" -v y="$2" 'BEGIN {
+    split("pv 40 100 pd 40 80 av 8 16 ad 5 15 y 0 500", t, " ");
+    n = y ? 5 : 4; s = "";
+    for (i = 0; i < n; ++i) {
+      lo = t[3 * i + 2]; hi = t[3 * i + 3]; w = hi - lo;
+      s = s (i ? ";" : "") t[3 * i + 1] "=" (lo + m * w) "," (hi - m * w);
+    }
+    print s }'
+}
+for margin in 0 0.1 0.2; do
+  for which in 4 5; do
+    if [ $which = 5 ]; then m="$here/data/models/default-y.json"; y=1; else m="$model"; y=0; fi
+    "$sim" dataset --design full --repeats 10 --noise --seed 7 --levels "$(corners $margin $y)" \
+      -o "$work/corners-$which-$margin.csv" > /dev/null
+    "$train" eval "$m" "$work/corners-$which-$margin.csv" --json > "$work/corners-$which-$margin.json"
+    row "$which-input model, corners of the box less margin $margin" "$work/corners-$which-$margin.json"
+    if [ $check = 1 ] && [ "$margin" = 0.2 ]; then
+      for p in mpe rpe mae rae; do
+        c=$(value "$work/corners-$which-$margin.json" "$p" coverage_pct)
+        awk -v c="$c" 'BEGIN { exit !(c >= 92) }' ||
+          fail "$which-input model, corners less the planner's margin 0.2: $p coverage $c % < 92 %"
+      done
+    fi
+  done
+done
 if [ $check = 1 ]; then
   outside=$(top "$work/wide.json" outside_domain)
   [ "$outside" -gt 0 ] || fail "no move of the wider set was flagged outside the domain"
