@@ -16,9 +16,9 @@
 #    (the list cannot outlive its reason);
 #  - outside the domain, moves are flagged, some parameter's mean U95 grows, and every
 #    parameter's coverage is still >= 92 %;
-#  - at the corners of the box less the planner's default edge margin 0.2 (docs/planner.md),
-#    every parameter's coverage is >= 92 % for both shipped models (at margin 0 it is not:
-#    reported, not checked).
+#  - at the corners of the box (and of the box less 10 % of each range at both ends), every
+#    parameter's coverage is >= 92 % for both shipped models: the corner gain at work
+#    (docs/uncertainty.md; margin 0.2 is reported, not checked).
 # Usage: bash scripts/interval-coverage.sh [--check] [WORK]   (needs the release tools built)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -88,9 +88,8 @@ done
 "$train" eval "$model" "$work/wide.csv" --json > "$work/wide.json"
 row "default twin, wider ranges (PV 30-130, AD 3-20)" "$work/wide.json"
 # Corners: the 2^k corners of the training box less an edge margin m (each input at lo + m·w and
-# hi - m·w), 10 noisy repeats each. U95 is the same everywhere inside the box, and the fit is
-# worst in its corners; the planner keeps its optimum away from them by its edge margin
-# (docs/planner.md), and the check holds both shipped models' coverage there at its default.
+# hi - m·w), 10 noisy repeats each. The fit is worst in its corners, where the feed planner's
+# optimum goes (docs/planner.md); the corner gain (model file version 3) widens U95 there.
 corners() {  # corners MARGIN Y(0|1): --levels of the shrunk box's corners
   awk -v m="$1" -v y="$2" 'BEGIN {
     split("pv 40 100 pd 40 80 av 8 16 ad 5 15 y 0 500", t, " ");
@@ -108,11 +107,11 @@ for margin in 0 0.1 0.2; do
       -o "$work/corners-$which-$margin.csv" > /dev/null
     "$train" eval "$m" "$work/corners-$which-$margin.csv" --json > "$work/corners-$which-$margin.json"
     row "$which-input model, corners of the box less margin $margin" "$work/corners-$which-$margin.json"
-    if [ $check = 1 ] && [ "$margin" = 0.2 ]; then
+    if [ $check = 1 ] && [ "$margin" != 0.2 ]; then
       for p in mpe rpe mae rae; do
         c=$(value "$work/corners-$which-$margin.json" "$p" coverage_pct)
         awk -v c="$c" 'BEGIN { exit !(c >= 92) }' ||
-          fail "$which-input model, corners less the planner's margin 0.2: $p coverage $c % < 92 %"
+          fail "$which-input model, corners less margin $margin: $p coverage $c % < 92 %"
       done
     fi
   done

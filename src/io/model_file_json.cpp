@@ -146,7 +146,8 @@ void check_content(const detail::ModelData& d, const std::string& where) {
   }
   if (t.tool_version.empty()) fail("training.tool_version is empty");
   if (d.interval_coverage == 0) {
-    if (!d.interval_half_width.empty() || !d.interval_gain.empty()) {
+    if (!d.interval_half_width.empty() || !d.interval_gain.empty() ||
+        !d.interval_corner_gain.empty()) {
       fail("uncertainty values without a coverage");
     }
     return;
@@ -155,9 +156,10 @@ void check_content(const detail::ModelData& d, const std::string& where) {
     fail(fmt::format("uncertainty.coverage = {} must be in (0, 1)", d.interval_coverage));
   }
   if (d.interval_half_width.size() != static_cast<std::size_t>(d.outputs) ||
-      d.interval_gain.size() != static_cast<std::size_t>(d.outputs)) {
+      d.interval_gain.size() != static_cast<std::size_t>(d.outputs) ||
+      d.interval_corner_gain.size() != static_cast<std::size_t>(d.outputs)) {
     fail(fmt::format(
-        "uncertainty: expected one half_width and one extrapolation_gain per output ({})",
+        "uncertainty: expected one half_width, extrapolation_gain and corner_gain per output ({})",
         d.outputs));
   }
   for (std::size_t o = 0; o < d.interval_half_width.size(); ++o) {
@@ -168,6 +170,10 @@ void check_content(const detail::ModelData& d, const std::string& where) {
     }
     if (!std::isfinite(g) || g < 0) {
       fail(fmt::format("uncertainty.extrapolation_gain[{}] = {} must be finite and >= 0", o, g));
+    }
+    const double k = d.interval_corner_gain[o];
+    if (!std::isfinite(k) || k < 0) {
+      fail(fmt::format("uncertainty.corner_gain[{}] = {} must be finite and >= 0", o, k));
     }
   }
   if (d.interval_method.empty()) fail("uncertainty.method is empty");
@@ -261,6 +267,7 @@ J to_json(const detail::ModelData& d) {
     u["coverage"] = d.interval_coverage;
     u["half_width"] = d.interval_half_width;
     u["extrapolation_gain"] = d.interval_gain;
+    u["corner_gain"] = d.interval_corner_gain;
     u["method"] = d.interval_method;
     u["calibration_samples"] = d.interval_samples;
     doc["uncertainty"] = std::move(u);
@@ -454,19 +461,21 @@ Json parse_document(const std::string& text, const std::string& source) {
   return doc;
 }
 
-/// The file's format_version (kModelFileVersion or kModelFileVersionNoUncertainty).
+/// The file's format_version (kModelFileVersion, kModelFileVersionNoCornerGain or
+/// kModelFileVersionNoUncertainty).
 int read_version(const Json& doc, const Reader& r) {
   const auto version = doc.find("format_version");
   if (version == doc.end()) {
-    r.fail(fmt::format("missing key 'format_version' (this library reads versions {} and {})",
+    r.fail(fmt::format("missing key 'format_version' (this library reads versions {} to {})",
                        kModelFileVersionNoUncertainty,
                        kModelFileVersion));
   }
   const bool known =
       version->is_number_integer() && (version->get<long long>() == kModelFileVersion ||
+                                       version->get<long long>() == kModelFileVersionNoCornerGain ||
                                        version->get<long long>() == kModelFileVersionNoUncertainty);
   if (!known) {
-    r.fail(fmt::format("format_version {} is not supported (this library reads versions {} and {})",
+    r.fail(fmt::format("format_version {} is not supported (this library reads versions {} to {})",
                        version->dump(),
                        kModelFileVersionNoUncertainty,
                        kModelFileVersion));
@@ -637,7 +646,7 @@ ModelData parse_model_json(const std::string& text,
   const Reader r(source);
   const int version = read_version(doc, r);
   // Version 1 has no "uncertainty" (its slot in the list repeats "checksum": no extra key);
-  // version 2 requires it (null: no calibration).
+  // versions 2 and 3 require it (null: no calibration).
   const bool v1 = version == kModelFileVersionNoUncertainty;
   r.only_keys(doc,
               "",
@@ -750,9 +759,16 @@ ModelData parse_model_json(const std::string& text,
   const auto uncertainty = doc.find("uncertainty");
   if (uncertainty != doc.end() && !uncertainty->is_null()) {
     const Json& u = r.object(doc, "", "uncertainty");
+    // Version 2 has no corner_gain (its slot repeats "method": no extra key); version 3 needs it.
+    const bool v2 = version == kModelFileVersionNoCornerGain;
     r.only_keys(u,
                 "uncertainty",
-                {"coverage", "half_width", "extrapolation_gain", "method", "calibration_samples"});
+                {"coverage",
+                 "half_width",
+                 "extrapolation_gain",
+                 v2 ? "method" : "corner_gain",
+                 "method",
+                 "calibration_samples"});
     d.interval_coverage = r.number(r.key(u, "uncertainty", "coverage"), "uncertainty.coverage");
     if (d.interval_coverage == 0)
       r.fail("uncertainty.coverage = 0 (write null for no calibration)");
@@ -763,6 +779,15 @@ ModelData parse_model_json(const std::string& text,
           r.number(hw[o], "uncertainty.half_width" + idx(static_cast<int>(o))));
       d.interval_gain.push_back(
           r.number(gain[o], "uncertainty.extrapolation_gain" + idx(static_cast<int>(o))));
+    }
+    if (v2) {
+      d.interval_corner_gain.assign(n_out, 0.0);
+    } else {
+      const Json& corner = r.array(u, "uncertainty", "corner_gain", n_out);
+      for (std::size_t o = 0; o < n_out; ++o) {
+        d.interval_corner_gain.push_back(
+            r.number(corner[o], "uncertainty.corner_gain" + idx(static_cast<int>(o))));
+      }
     }
     d.interval_method = r.string(u, "uncertainty", "method");
     d.interval_samples = r.unsigned_integer(u, "uncertainty", "calibration_samples");

@@ -368,11 +368,13 @@ class Trainer {
   }
 
   /// Step 7: the prediction interval's calibration (fuzzy/prediction_interval.hpp).
-  ///  - half-width: the split-conformal quantile of |out-of-fold residual| [raw units], the
-  ///    folds made of whole design points (every repeat of a move in the same fold), so that a
-  ///    residual is that of a move the fit has not seen, as in service;
+  ///  - half-width and corner gain: a locally weighted split-conformal calibration of
+  ///    |out-of-fold residual| [raw units] with weight 1 + gain·κ (κ the corner share), the
+  ///    gain from the least-squares line of |r| on κ; the folds made of whole design points
+  ///    (every repeat of a move in the same fold), so that a residual is that of a move the fit
+  ///    has not seen, as in service;
   ///  - extrapolation gain: for each input and each end, the samples in the outer third of its
-  ///    range are predicted by a fit to the rest; each needs gain (|r|/h − 1)/d to be covered
+  ///    range are predicted by a fit to the rest; each needs gain (|r|/h(κ) − 1)/d to be covered
   ///    (d its distance from the rest's box, in the rest's ranges); the gain is the coverage
   ///    quantile of those needs over every such sample (0 if they are covered already).
   /// The fits are the ridge initialisation at the chosen λ (milliseconds), not the LM
@@ -407,7 +409,9 @@ class Trainer {
     std::vector<std::size_t> fold_of_group(groups);
     for (std::size_t g = 0; g < groups; ++g) fold_of_group[order[g]] = g % folds;
 
-    std::array<std::vector<double>, kOutputs> scores;
+    // Out-of-fold |residual| of every sample, and its corner share κ.
+    std::array<std::vector<double>, kOutputs> residuals;
+    std::vector<double> corner;
     for (std::size_t f = 0; f < folds; ++f) {
       std::vector<Index> train, test;
       for (std::size_t k = 0; k < n; ++k) {
@@ -415,14 +419,35 @@ class Trainer {
       }
       const MatrixXd pred = ridge_predict(phi, u, train, test, lambda);
       for (std::size_t r = 0; r < test.size(); ++r) {
+        corner.push_back(fuzzy::corner_share(ranges_, raw_inputs_[sz(test[r])]));
         for (int o = 0; o < kOutputs; ++o) {
           const double e = (pred(static_cast<Index>(r), o) - z_(test[r], o)) * scale_[sz(o)];
-          scores[sz(o)].push_back(std::abs(e));
+          residuals[sz(o)].push_back(std::abs(e));
         }
       }
     }
+    // Corner gain: the least-squares line |r| = a + b·κ, gain b/a (0 when the residuals do not
+    // grow towards the corners, or a <= 0). Then the locally weighted conformal score
+    // |r| / (1 + gain·κ): its quantile is the half-width, with the same coverage guarantee as
+    // the plain one whatever the gain (the weight depends on the input only).
+    double mean_k = 0.0;
+    for (const double k : corner) mean_k += k;
+    mean_k /= static_cast<double>(corner.size());
+    double var_k = 0.0;
+    for (const double k : corner) var_k += (k - mean_k) * (k - mean_k);
     for (int o = 0; o < kOutputs; ++o) {
-      cal.half_width[sz(o)] = conformal_quantile(scores[sz(o)], c);
+      const std::vector<double>& r = residuals[sz(o)];
+      double mean_r = 0.0, cov = 0.0;
+      for (const double v : r) mean_r += v;
+      mean_r /= static_cast<double>(r.size());
+      for (std::size_t j = 0; j < r.size(); ++j) cov += (corner[j] - mean_k) * (r[j] - mean_r);
+      const double b = var_k > 0.0 ? cov / var_k : 0.0;
+      const double a = mean_r - b * mean_k;
+      const double gain = a > 0.0 && b > 0.0 ? b / a : 0.0;
+      std::vector<double> scores(r.size());
+      for (std::size_t j = 0; j < r.size(); ++j) scores[j] = r[j] / (1.0 + gain * corner[j]);
+      cal.corner_gain[sz(o)] = gain;
+      cal.half_width[sz(o)] = conformal_quantile(std::move(scores), c);
     }
 
     std::array<std::vector<double>, kOutputs> needs;
@@ -448,8 +473,9 @@ class Trainer {
         for (std::size_t r = 0; r < test.size(); ++r) {
           const double d = fuzzy::domain_distance(box, x_[sz(test[r])]);
           if (!(d > 0.0)) continue;
+          const double kappa = fuzzy::corner_share(ranges_, raw_inputs_[sz(test[r])]);
           for (int o = 0; o < kOutputs; ++o) {
-            const double h = cal.half_width[sz(o)];
+            const double h = cal.half_width[sz(o)] * (1.0 + cal.corner_gain[sz(o)] * kappa);
             const double e =
                 std::abs(pred(static_cast<Index>(r), o) - z_(test[r], o)) * scale_[sz(o)];
             needs[sz(o)].push_back(h > 0.0 ? std::max(0.0, (e / h - 1.0) / d) : 0.0);

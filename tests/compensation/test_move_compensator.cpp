@@ -443,7 +443,7 @@ TEST(MoveCompensatorInterval, FarOutsideTheDomainTheIntervalStaysFinite) {
     IntervalCalibration cal = test_interval();
     cal.extrapolation_gain[1] = 1e300;
     std::array<double, 4> u{};
-    fuzzy::interval_half_widths(cal, d, u);
+    fuzzy::interval_half_widths(cal, d, 1.0, u);
     for (std::size_t o = 0; o < 4; ++o) {
       EXPECT_TRUE(std::isfinite(u[o])) << o;
       EXPECT_LE(u[o], fuzzy::kMaxHalfWidth) << o;
@@ -451,6 +451,42 @@ TEST(MoveCompensatorInterval, FarOutsideTheDomainTheIntervalStaysFinite) {
     EXPECT_EQ(u[0], cal.half_width[0]);  // gain 0: the in-domain half-width, not NaN
     EXPECT_EQ(u[1], fuzzy::kMaxHalfWidth);
   }
+}
+
+// κ = (mean (2u − 1)²)²: 0 at the centre, 1 at a corner and beyond; U = h·(1 + k·κ + g·d).
+TEST(MoveCompensatorInterval, CornerShareAndCornerGain) {
+  const std::array<fuzzy::InputRange, 2> ranges{{{5.0, 80.0}, {-1.0, 1.0}}};
+  using X = std::array<double, 2>;
+  EXPECT_EQ(fuzzy::corner_share(ranges, X{42.5, 0.0}), 0.0);
+  EXPECT_EQ(fuzzy::corner_share(ranges, X{5.0, 1.0}), 1.0);
+  EXPECT_EQ(fuzzy::corner_share(ranges, X{1e300, -1e300}), 1.0);  // clamped: beyond is d's part
+  // One input at its end, the other at the centre: mean 0.5, κ = 0.25.
+  EXPECT_DOUBLE_EQ(fuzzy::corner_share(ranges, X{80.0, 0.0}), 0.25);
+  // Half-way to the end on both: (2u − 1)² = 0.25, κ = 0.25².
+  EXPECT_DOUBLE_EQ(fuzzy::corner_share(ranges, X{61.25, 0.5}), 0.0625);
+
+  IntervalCalibration cal = test_interval();
+  cal.corner_gain = {0.0, 2.0, 0.5, 1.0};
+  std::array<double, 4> u{};
+  fuzzy::interval_half_widths_at(cal, ranges, X{5.0, -1.0}, u);  // a corner, d = 0
+  for (std::size_t o = 0; o < 4; ++o) {
+    EXPECT_DOUBLE_EQ(u[o], cal.half_width[o] * (1.0 + cal.corner_gain[o])) << o;
+  }
+  fuzzy::interval_half_widths_at(cal, ranges, X{42.5, 0.0}, u);  // the centre
+  for (std::size_t o = 0; o < 4; ++o) EXPECT_DOUBLE_EQ(u[o], cal.half_width[o]) << o;
+  // Both terms add beyond a corner: PV 155 is 1 range out, κ = 1.
+  fuzzy::interval_half_widths_at(cal, ranges, X{155.0, 1.0}, u);
+  for (std::size_t o = 0; o < 4; ++o) {
+    EXPECT_DOUBLE_EQ(u[o],
+                     cal.half_width[o] * (1.0 + cal.corner_gain[o] + cal.extrapolation_gain[o]))
+        << o;
+  }
+  IntervalCalibration bad = test_interval();
+  bad.corner_gain[2] = -0.5;
+  std::string why;
+  EXPECT_FALSE(fuzzy::validate_interval(bad, &why));
+  EXPECT_NE(why.find("corner gain of output 2"), std::string::npos) << why;
+  EXPECT_FALSE(fuzzy::interval_is_valid(bad));
 }
 
 TEST(MoveCompensatorInterval, AnInvalidCalibrationIsRefusedAndTheOldModelServes) {

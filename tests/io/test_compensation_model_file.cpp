@@ -82,7 +82,14 @@ TEST(CompensationModelFile, TheShippedModelPublishesItsInterval) {
   compensation::Correction c;
   ASSERT_EQ(comp.before_approach(m, c), Status::kOk);
   EXPECT_EQ(c.flags & compensation::kFlagNoUncertainty, 0u);
-  for (std::size_t o = 0; o < 4; ++o) EXPECT_EQ(c.u95_um[o], f.interval.half_width[o]) << o;
+  // PV and PD at the low ends of their ranges, AV and AD mid-range: corner share ((1 + 1)/4)².
+  const auto x = compensation::Model<PaperInputs>::input(m);
+  ASSERT_EQ(fuzzy::corner_share(f.model.ranges, x), 0.25);
+  for (std::size_t o = 0; o < 4; ++o) {
+    EXPECT_DOUBLE_EQ(c.u95_um[o],
+                     f.interval.half_width[o] * (1.0 + 0.25 * f.interval.corner_gain[o]))
+        << o;
+  }
   // A file without a calibration publishes as "no uncertainty".
   ModelFileOf<PaperInputs> plain = f;
   plain.interval = {};

@@ -377,15 +377,15 @@ TEST(ModelFileRejects, WrongFormatOrVersion) {
   const std::string text = format_model_json(golden_model());
   EXPECT_REJECTED(replaced(text, "cmmcomp-tsk-model", "cmmcomp-machine"),
                   "format is 'cmmcomp-machine', expected 'cmmcomp-tsk-model'");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 2", "\"format_version\": 3"),
-                  "format_version 3 is not supported (this library reads versions 1 and 2)");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 2", "\"format_version\": \"2\""),
-                  "format_version \"2\" is not supported");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 2,", ""), "missing key 'format_version'");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 3", "\"format_version\": 4"),
+                  "format_version 4 is not supported (this library reads versions 1 to 3)");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 3", "\"format_version\": \"3\""),
+                  "format_version \"3\" is not supported");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 3,", ""), "missing key 'format_version'");
   EXPECT_REJECTED(replaced(text, "\"format\": \"cmmcomp-tsk-model\",", ""), "missing key 'format'");
 }
 
-/// `text` (a version-2 file) re-signed: its checksum recomputed after an edit, so the test
+/// `text` (a model file) re-signed: its checksum recomputed after an edit, so the test
 /// reaches the check it means instead of stopping at the checksum.
 std::string resigned(const std::string& text) {
   nlohmann::ordered_json doc = nlohmann::ordered_json::parse(text);
@@ -427,12 +427,48 @@ ModelFile<2, 3, 1> calibrated_golden_model() {
   f.interval.coverage = 0.95;
   f.interval.half_width = {0.75};
   f.interval.extrapolation_gain = {1.5};
+  f.interval.corner_gain = {0.5};
   f.interval_method = "split-conformal (test)";
   f.interval_samples = 54;
   return f;
 }
 
-TEST(ModelFile, Version2RoundTripKeepsTheCalibration) {
+/// The calibrated golden model written as format version 2 (no `corner_gain`), as the library
+/// before the corner gain wrote it.
+std::string version_2_text() {
+  nlohmann::ordered_json doc =
+      nlohmann::ordered_json::parse(format_model_json(calibrated_golden_model()));
+  doc["format_version"] = 2;
+  doc["uncertainty"].erase("corner_gain");
+  return resigned(doc.dump());
+}
+
+TEST(ModelFile, Version2StillLoadsWithNoCornerGain) {
+  const ModelFile<2, 3, 1> f = parse_model_json<2, 3, 1>(version_2_text(), "v2.json");
+  EXPECT_EQ(f.format_version, kModelFileVersionNoCornerGain);
+  ASSERT_TRUE(f.interval.available());
+  EXPECT_EQ(f.interval.half_width[0], 0.75);
+  EXPECT_EQ(f.interval.extrapolation_gain[0], 1.5);
+  EXPECT_EQ(f.interval.corner_gain[0], 0.0);
+  // A version-2 file may not carry the version-3 key.
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(version_2_text());
+  doc["uncertainty"]["corner_gain"] = {0.5};
+  EXPECT_REJECTED(resigned(doc.dump()), "unknown key 'uncertainty.corner_gain'");
+  // The shipped default model as it was written in version 2 (before the corner gain) loads.
+  const auto v2 = load_model_file<4, 3, 4>(tests_dir() + "/data/models/default-v2.json");
+  EXPECT_EQ(v2.format_version, kModelFileVersionNoCornerGain);
+  EXPECT_TRUE(v2.interval.available());
+  for (double k : v2.interval.corner_gain) EXPECT_EQ(k, 0.0);
+}
+
+TEST(ModelFile, Version3RequiresTheCornerGain) {
+  nlohmann::ordered_json doc =
+      nlohmann::ordered_json::parse(format_model_json(calibrated_golden_model()));
+  doc["uncertainty"].erase("corner_gain");
+  EXPECT_REJECTED(resigned(doc.dump()), "missing key 'uncertainty.corner_gain'");
+}
+
+TEST(ModelFile, RoundTripKeepsTheCalibration) {
   const ModelFile<2, 3, 1> f = calibrated_golden_model();
   const std::string text = format_model_json(f);
   EXPECT_NE(text.find("\"uncertainty\": {"), std::string::npos) << text;
@@ -459,6 +495,10 @@ TEST(ModelFileRejects, CorruptUncertainty) {
                   "uncertainty.half_width");
   EXPECT_REJECTED(edit("\"extrapolation_gain\": [1.5]", "\"extrapolation_gain\": [-1]"),
                   "uncertainty.extrapolation_gain[0] = -1");
+  EXPECT_REJECTED(edit("\"corner_gain\": [0.5]", "\"corner_gain\": [-0.5]"),
+                  "uncertainty.corner_gain[0] = -0.5 must be finite and >= 0");
+  EXPECT_REJECTED(edit("\"corner_gain\": [0.5]", "\"corner_gain\": [0.5, 1]"),
+                  "uncertainty.corner_gain");
   EXPECT_REJECTED(edit("\"calibration_samples\": 54", "\"calibration_samples\": 0"),
                   "uncertainty.calibration_samples must be > 0");
   EXPECT_REJECTED(edit("\"method\": \"split-conformal (test)\"", "\"method\": \"\""),

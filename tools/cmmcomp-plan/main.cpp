@@ -37,7 +37,7 @@ struct Options {
   double z_mm = 0.0;
   std::string machine;
   int grid = 11;
-  double edge_margin = 0.2;
+  double edge_margin = 0.0;
   int brute_force = 0;
   bool json = false;
 };

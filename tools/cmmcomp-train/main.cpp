@@ -93,21 +93,23 @@ int run_fit(const FitCommand& cmd) {
               s.final_cost);
   // The interval's columns are named by its coverage: U95 at the default 0.95.
   const std::string u_name = fmt::format("U{:g}", 100.0 * cmd.interval_coverage);
-  std::printf("%-6s %14s %14s %14s %14s %12s\n",
+  std::printf("%-6s %14s %14s %14s %14s %12s %12s\n",
               "",
               "init RMSE um",
               "train RMSE um",
               "CV RMSE um",
               (u_name + " um").c_str(),
-              (u_name + " gain").c_str());
+              (u_name + " gain").c_str(),
+              "corner gain");
   for (std::size_t o = 0; o < 4; ++o) {
-    std::printf("%-6s %14.4f %14.4f %14.4f %14.4f %12.3f\n",
+    std::printf("%-6s %14.4f %14.4f %14.4f %14.4f %12.3f %12.3f\n",
                 cmmcomp::kErrors[o].label,
                 s.init_train_rmse[o],
                 s.train_rmse[o],
                 s.cv_rmse[o],
                 result.interval.half_width[o],
-                result.interval.extrapolation_gain[o]);
+                result.interval.extrapolation_gain[o],
+                result.interval.corner_gain[o]);
   }
   if (!s.usable()) {
     std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n", s.message.c_str());
@@ -156,8 +158,7 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
     }
     if (st == cmmcomp::Status::kOutsideDomain) ++outside;
     std::array<double, 4> u{};
-    cmmcomp::fuzzy::interval_half_widths(
-        file.interval, cmmcomp::fuzzy::domain_distance(file.model.ranges, samples.inputs[i]), u);
+    cmmcomp::fuzzy::interval_half_widths_at(file.interval, file.model.ranges, samples.inputs[i], u);
     for (std::size_t o = 0; o < 4; ++o) {
       p.measured[o].push_back(samples.targets[i][o]);
       p.predicted[o].push_back(y[o]);

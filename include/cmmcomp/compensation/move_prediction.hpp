@@ -50,14 +50,15 @@ struct Model : fuzzy::TskModel<Scalar, InputsT::kCount, kSetsPerInput, kModelOut
 using IntervalCalibration = fuzzy::IntervalCalibration<kModelOutputs>;
 
 /// The interval half-widths [µm] of `move` under `model` with calibration `interval`: the
-/// distance is taken from the move's inputs as given (before any clamping). RT-safe.
+/// distance and the corner share are taken from the move's inputs as given (before any
+/// clamping). RT-safe.
 template <typename M>
 inline std::array<double, kModelOutputs> interval_of(const M& model,
                                                      const IntervalCalibration& interval,
                                                      const MoveRequest& move) noexcept {
   std::array<double, kModelOutputs> u{};
   if (interval.available()) {
-    fuzzy::interval_half_widths(interval, fuzzy::domain_distance(model.ranges, M::input(move)), u);
+    fuzzy::interval_half_widths_at(interval, model.ranges, M::input(move), u);
   }
   return u;
 }

@@ -4,17 +4,22 @@
 /// For each output o the half-width of the interval that holds the measured value with
 /// probability `coverage` (0.95: U95) is
 ///
-///     U_o(x) = half_width_o · (1 + extrapolation_gain_o · d(x))
+///     U_o(x) = half_width_o · (1 + corner_gain_o · κ(x) + extrapolation_gain_o · d(x))
 ///
 /// where d(x) is the Euclidean distance of the raw input x from the training box, each input in
-/// units of its own training range (0 inside the box). `half_width` is the split-conformal
-/// quantile of the cross-validated residuals of the training data (in the output's unit);
-/// `extrapolation_gain` comes from residuals of models trained with one end of one input left
-/// out (training/fnn_trainer.hpp, step 7). The distance is taken from the input as the move
-/// gives it, before any clamping, so a clamped prediction outside the domain also gets a wider
-/// interval: clamping keeps the prediction bounded, not right.
+/// units of its own training range (0 inside the box), and κ(x) = (mean_i (2·u_i − 1)²)² its
+/// corner share, u_i the input's place in its range clamped to [0, 1]: 0 at the box's centre,
+/// about 0.13 on average over uniformly drawn moves (1/9 + 4/(45·n) for n inputs), 1 at a
+/// corner, where a fitted model is least sure.
+/// `half_width` and `corner_gain` are a locally weighted split-conformal calibration on the
+/// cross-validated residuals r of the training data: corner_gain from the least-squares line
+/// |r| ≈ a·(1 + corner_gain·κ), half_width the coverage quantile of |r| / (1 + corner_gain·κ)
+/// (in the output's unit); `extrapolation_gain` comes from residuals of models trained with one
+/// end of one input left out (training/fnn_trainer.hpp, step 7). The distance is taken from the
+/// input as the move gives it, before any clamping, so a clamped prediction outside the domain also
+/// gets a wider interval: clamping keeps the prediction bounded, not right.
 ///
-/// RT-safe: no allocation, no exception, kInputs + kOutputs multiply-adds and one sqrt; never
+/// RT-safe: no allocation, no exception, 2·kInputs + 2·kOutputs multiply-adds and one sqrt; never
 /// NaN for finite inputs (validate_interval is checked at publication).
 #pragma once
 
@@ -36,6 +41,9 @@ struct IntervalCalibration {
   std::array<double, static_cast<std::size_t>(kOutputs)> half_width{};
   /// Growth of the half-width per training range outside the box, >= 0.
   std::array<double, static_cast<std::size_t>(kOutputs)> extrapolation_gain{};
+  /// Growth of the half-width at the box's corners (κ = 1), >= 0. 0 in a model file of format
+  /// version 2, which had none.
+  std::array<double, static_cast<std::size_t>(kOutputs)> corner_gain{};
 
   /// True when the model carries a calibration.
   constexpr bool available() const noexcept { return coverage > 0.0; }
@@ -44,7 +52,7 @@ struct IntervalCalibration {
     bool same = coverage == o.coverage;
     for (std::size_t k = 0; k < half_width.size(); ++k) {
       same = same && half_width[k] == o.half_width[k] &&
-             extrapolation_gain[k] == o.extrapolation_gain[k];
+             extrapolation_gain[k] == o.extrapolation_gain[k] && corner_gain[k] == o.corner_gain[k];
     }
     return same;
   }
@@ -79,18 +87,48 @@ inline double domain_distance(const std::array<InputRange, kInputs>& ranges,
   return std::sqrt(sum);
 }
 
+/// Corner share κ of the raw input `x` in the box of `ranges`: (mean_i (2·u_i − 1)²)² with u_i
+/// = (x_i − lo_i)/(hi_i − lo_i) clamped to [0, 1]; in [0, 1], 1 at (and beyond) a corner.
+/// RT-safe. Precondition as domain_distance.
+template <std::size_t kInputs>
+inline double corner_share(const std::array<InputRange, kInputs>& ranges,
+                           const std::array<double, kInputs>& x) noexcept {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < kInputs; ++i) {
+    const InputRange& r = ranges[i];
+    const double u = (x[i] - r.lo) / (r.hi - r.lo);
+    const double c = u < 0.0 ? -1.0 : (u > 1.0 ? 1.0 : 2.0 * u - 1.0);
+    sum += c * c;
+  }
+  const double m = sum / static_cast<double>(kInputs);
+  return m * m;
+}
+
 /// The half-widths U_o at a move whose input lies `distance` (domain_distance) from the
-/// training box. Writes 0 everywhere when `cal` is not available. RT-safe.
+/// training box with corner share `corner` (corner_share). Writes 0 everywhere when `cal` is not
+/// available. RT-safe.
 template <int kOutputs>
 inline void interval_half_widths(
     const IntervalCalibration<kOutputs>& cal,
     double distance,
+    double corner,
     std::array<double, static_cast<std::size_t>(kOutputs)>& u) noexcept {
   for (std::size_t o = 0; o < u.size(); ++o) {
-    const double w =
-        cal.available() ? cal.half_width[o] * (1.0 + cal.extrapolation_gain[o] * distance) : 0.0;
+    const double w = cal.available() ? cal.half_width[o] * (1.0 + cal.corner_gain[o] * corner +
+                                                            cal.extrapolation_gain[o] * distance)
+                                     : 0.0;
     u[o] = w < kMaxHalfWidth ? w : kMaxHalfWidth;  // also maps an overflow to the bound
   }
+}
+
+/// The half-widths U_o of the raw input `x` of a model with training box `ranges`. RT-safe.
+template <int kOutputs, std::size_t kInputs>
+inline void interval_half_widths_at(
+    const IntervalCalibration<kOutputs>& cal,
+    const std::array<InputRange, kInputs>& ranges,
+    const std::array<double, kInputs>& x,
+    std::array<double, static_cast<std::size_t>(kOutputs)>& u) noexcept {
+  interval_half_widths(cal, domain_distance(ranges, x), corner_share(ranges, x), u);
 }
 
 /// True when `cal` may be published (validate_interval's rule, without the message). RT-safe,
@@ -101,9 +139,11 @@ constexpr bool interval_is_valid(const IntervalCalibration<kOutputs>& cal) noexc
   for (std::size_t o = 0; o < cal.half_width.size(); ++o) {
     const double h = cal.half_width[o];
     const double g = cal.extrapolation_gain[o];
+    const double k = cal.corner_gain[o];
     // v − v is 0 exactly when v is finite (constexpr, unlike std::isfinite in C++17).
     good = good && (h - h) == 0.0 && h >= 0.0 && (g - g) == 0.0 && g >= 0.0;
-    good = good && (cal.available() || (h == 0.0 && g == 0.0));
+    good = good && (k - k) == 0.0 && k >= 0.0;
+    good = good && (cal.available() || (h == 0.0 && g == 0.0 && k == 0.0));
   }
   return good;
 }
@@ -130,7 +170,12 @@ bool validate_interval(const IntervalCalibration<kOutputs>& cal, std::string* wh
       return fail("interval extrapolation gain of output " + std::to_string(o) +
                   " is not finite and >= 0");
     }
-    if (!cal.available() && (h != 0.0 || g != 0.0)) {
+    const double k = cal.corner_gain[o];
+    if (!(std::isfinite(k) && k >= 0.0)) {
+      return fail("interval corner gain of output " + std::to_string(o) +
+                  " is not finite and >= 0");
+    }
+    if (!cal.available() && (h != 0.0 || g != 0.0 || k != 0.0)) {
       return fail("interval values without a coverage (coverage 0 means no calibration)");
     }
   }

@@ -2,7 +2,7 @@
 /// @file The versioned JSON model file of a trained T-S network, and its constexpr C++ export.
 ///
 /// Format (docs/model-file.md): one JSON object with `format` = "cmmcomp-tsk-model",
-/// `format_version` = 2, `architecture`, `inputs` (names, units, normalisation ranges),
+/// `format_version` = 3, `architecture`, `inputs` (names, units, normalisation ranges),
 /// `outputs`, `parameters` (centres, widths and consequents as nested arrays, same order as the
 /// flat layout of tsk_params.hpp), `training` metadata, `uncertainty` (the prediction interval's
 /// calibration, or null; docs/uncertainty.md), and `checksum`: the SHA-256 (lower-case
@@ -27,8 +27,12 @@ namespace cmmcomp::io {
 
 /// `format` of every model file.
 inline constexpr const char* kModelFileFormat = "cmmcomp-tsk-model";
-/// `format_version` this library writes. It reads this one and kModelFileVersionNoUncertainty.
-inline constexpr int kModelFileVersion = 2;
+/// `format_version` this library writes. It reads this one, kModelFileVersionNoCornerGain and
+/// kModelFileVersionNoUncertainty.
+inline constexpr int kModelFileVersion = 3;
+/// The second format version: `uncertainty` without `corner_gain`; still read, with every corner
+/// gain 0 (the interval as version 2 defined it).
+inline constexpr int kModelFileVersionNoCornerGain = 2;
 /// The first format version, without `uncertainty`: still read, as a model with no interval
 /// calibration (its Corrections carry kFlagNoUncertainty).
 inline constexpr int kModelFileVersionNoUncertainty = 1;
@@ -101,7 +105,7 @@ struct ModelData {
   std::vector<double> params;  ///< flat layout of tsk_params.hpp
   ModelMetadata training;
   double interval_coverage = 0;  ///< 0: no calibration (then the vectors are empty)
-  std::vector<double> interval_half_width, interval_gain;
+  std::vector<double> interval_half_width, interval_gain, interval_corner_gain;
   std::string interval_method;
   std::uint64_t interval_samples = 0;
   int format_version = kModelFileVersion;
@@ -139,6 +143,8 @@ ModelData to_data(const ModelFile<kInputs, kSets, kOutputs>& file) {
     d.interval_half_width.assign(file.interval.half_width.begin(), file.interval.half_width.end());
     d.interval_gain.assign(file.interval.extrapolation_gain.begin(),
                            file.interval.extrapolation_gain.end());
+    d.interval_corner_gain.assign(file.interval.corner_gain.begin(),
+                                  file.interval.corner_gain.end());
     d.interval_method = file.interval_method;
     d.interval_samples = file.interval_samples;
   }
@@ -166,6 +172,7 @@ ModelFile<kInputs, kSets, kOutputs> from_data(const ModelData& d) {
     for (std::size_t o = 0; o < static_cast<std::size_t>(kOutputs); ++o) {
       f.interval.half_width[o] = d.interval_half_width[o];
       f.interval.extrapolation_gain[o] = d.interval_gain[o];
+      f.interval.corner_gain[o] = d.interval_corner_gain[o];
     }
     f.interval_method = d.interval_method;
     f.interval_samples = d.interval_samples;
@@ -192,7 +199,8 @@ std::string format_model_json(const ModelFile<kInputs, kSets, kOutputs>& file) {
 /// Parses and validates model file text; `source` names it in messages. The file's
 /// architecture must be kInputs × kSets × kOutputs. Setup only. Throws ConfigError naming the
 /// source, the key path and the problem: not JSON (with byte offset), wrong `format`, missing or
-/// unsupported `format_version` (1 and 2 are read; 1 has no `uncertainty`), architecture mismatch
+/// unsupported `format_version` (1, 2 and 3 are read; 1 has no `uncertainty`, 2 no `corner_gain`),
+/// architecture mismatch
 /// (both stated), a missing or unknown key, a wrong type or array length, a non-finite number,
 /// width <= 0, lo >= hi, a checksum mismatch, or a number not written in the canonical form this
 /// library writes (an edit that kept the value; see docs/model-file.md).

@@ -55,12 +55,11 @@ struct PlanProblem {
   double z_mm = 0.0;                ///< ram position of the program
   double dwell_s = 0.0;             ///< the controller's settling dwell at the pre-hit point [s]
   double smoothing_s = 0.0;         ///< the controller's command smoothing [s]
-  /// Share of each model input's training range kept clear at both of its ends, in [0, 0.45).
-  /// A fitted model is least sure at the edges and corners of its training box, where the
-  /// planner's optimum lands, while U95 is calibrated over the whole box (docs/planner.md,
-  /// "Edge margin"). 0: the whole box. The default 0.2 is measured on the twin: at 0, 0.1 the
-  /// planned compensated setting failed the length test at Y 0; at 0.15 it passed by 0.2 µm.
-  double edge_margin = 0.2;
+  /// Share of each model input's range kept clear at both of its ends, in [0, 0.45). A fitted
+  /// model is least sure at the corners of its training box, where the planner's optimum
+  /// lands; a model file of version 3 says so itself (its corner gain widens U95 there), one of
+  /// version 2 does not, and needs a margin (docs/planner.md, "Edge margin"). 0: the whole box.
+  double edge_margin = 0.0;
   /// Points per input of the global grid (>= 2). The local search starts from the fastest
   /// feasible grid points.
   int grid_points = 11;
