@@ -29,8 +29,7 @@ class CanServerHil : public ::testing::Test {
     if (o.heartbeat_period == CanServerOptions{}.heartbeat_period) {
       o.heartbeat_period = std::chrono::milliseconds(0);  // off unless a test wants it
     }
-    ASSERT_EQ(comp_.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
-              Status::kOk);
+    ASSERT_EQ(cmmcomp::test::publish_example(comp_), Status::kOk);  // calibrated
     server_ = std::make_unique<CanServer>(comp_, o);
     base_ = o.base_id;
     peer_ = std::make_unique<CanPeer>(o.interface, o.base_id, o.fd);
@@ -83,6 +82,26 @@ TEST_F(CanServerHil, AnswersARequestWithTheClosedFormCorrection) {
   DecodedResponse d;
   ASSERT_TRUE(receive_response(d));
   cmmcomp::test::expect_example_response(d);
+}
+
+// Protocol version 2: WantInterval gets the three frames of version 1 and part 3 (the document's
+// second example), in order, on the real bus.
+TEST_F(CanServerHil, AnswersAnIntervalRequestWithFourFrames) {
+  start();
+  RequestFrames f;
+  ASSERT_EQ(encode_request(cmmcomp::test::example_interval_move(), base_, f, nullptr, true),
+            Status::kOk);
+  ASSERT_TRUE(send_all(f));
+  DecodedResponse d;
+  ASSERT_TRUE(receive_response(d));
+  Frame interval;
+  ASSERT_TRUE(peer_->receive_except(interval, base_ + kHeartbeatOffset, kWaitMs));
+  ASSERT_TRUE(decode_interval(interval, base_, d)) << cmmcomp::test::to_text(interval);
+  cmmcomp::test::expect_example_interval_response(d);
+  EXPECT_EQ(server_->counters().intervals, 1u);
+  // ... and nothing more.
+  Frame extra;
+  EXPECT_FALSE(peer_->receive_except(extra, base_ + kHeartbeatOffset, 200));
 }
 
 TEST_F(CanServerHil, KernelFilterKeepsOtherIdentifiersAway) {
@@ -156,7 +175,8 @@ TEST_F(CanServerHil, HeartbeatCarriesModelIdAndCounters) {
     Frame f;
     ASSERT_TRUE(peer_->receive(f, kWaitMs));
     const int page = decode_heartbeat(f, base_, h);
-    counted = counted || (page == 0 && h.answered == 1 && h.requests == 1 && h.model_mask == 1);
+    counted = counted || (page == 0 && h.answered == 1 && h.requests == 1 && h.model_mask == 1 &&
+                          h.protocol_version == kProtocolVersion);
     id_seen = id_seen || (page == 1 && h.model_ids[0] == cmmcomp::test::kExampleModelId);
   }
   EXPECT_TRUE(counted);
