@@ -3,6 +3,7 @@
 /// socket of its own as the controller: answers, kernel filter, rejects, heartbeat, hot swap.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <memory>
@@ -263,6 +264,21 @@ TEST_F(CanServerHil, CanFdRequestsAreAnsweredInCanFd) {
   ASSERT_TRUE(peer_->receive(r[1], kWaitMs) && peer_->receive(r[2], kWaitMs));
   ASSERT_TRUE(decode_response(r, base_, d));
   EXPECT_EQ(d.correction.sequence, 5u);
+
+  // WantInterval in CAN FD: all four response frames in CAN FD.
+  RequestFrames asking;
+  ASSERT_EQ(encode_request(cmmcomp::test::example_interval_move(), base_, asking, nullptr, true),
+            Status::kOk);
+  for (const Frame& x : asking) ASSERT_TRUE(peer_->send(x, 0, true));
+  std::array<Frame, kResponseParts + 1> four;
+  for (Frame& x : four) {
+    bool fd_answer = false;
+    ASSERT_TRUE(peer_->receive(x, kWaitMs, &fd_answer));
+    EXPECT_TRUE(fd_answer);
+  }
+  ASSERT_TRUE(decode_response({four[0], four[1], four[2]}, base_, d));
+  ASSERT_TRUE(decode_interval(four[3], base_, d));
+  cmmcomp::test::expect_example_interval_response(d);
 
   Frame long_frame = f[0];
   long_frame.dlc = 12;
