@@ -145,7 +145,7 @@ inline constexpr std::array<std::uint64_t, kRequestParts> kReservedMask{
 inline constexpr double kDirectionNormTolerance = 0.01;
 }  // namespace request
 
-// ---- Response (base + 1): the correction, in three parts -------------------------------------
+// ---- Response (base + 1): the correction in three parts, and the interval in a fourth -------
 namespace response {
 inline constexpr SignalSpec kPart{"RespPart", 0, 2, false, 1, 0, 0, 3, "", kMultiplexor};
 inline constexpr SignalSpec kSequence{
