@@ -20,7 +20,7 @@ for exe in "$agent" "$vc"; do
 done
 mkdir -p "$data"
 # The program of every recording: 3 lengths × 2 Y × 2 faces = 12 requests (24 transcript lines,
-# 72 CAN frames). Keep in sync with tests/tools/replay/README.md. The guest gets them in VC_ARGS.
+# 84 CAN frames: 3 request and 4 response frames each, CAN protocol version 2). Keep in sync with tests/tools/replay/README.md. The guest gets them in VC_ARGS.
 vc_args=(--lengths 20,100,400 --y 0,250 --repeats 1 --seed 7)
 # name → model file (relative to the repository)
 models=("default=data/models/default.json" "default-y=data/models/default-y.json")

@@ -138,11 +138,12 @@ class ServerThread {
   static void log_counters(const cmmcomp::plugins::CanServer& s) {
     const auto c = s.counters();
     spdlog::info(
-        "{}: {} requests, {} answered, {} rejected ({} malformed, {} timeouts, {} out of range, "
-        "{} refused), {} heartbeats",
+        "{}: {} requests, {} answered ({} with the interval), {} rejected ({} malformed, {} "
+        "timeouts, {} out of range, {} refused), {} heartbeats",
         s.where(),
         c.requests,
         c.answered,
+        c.intervals,
         c.rejected,
         c.malformed,
         c.timeouts,

@@ -50,6 +50,11 @@ std::vector<FieldValue> decode_can_frame(std::uint32_t base_id,
     const std::string name = s.name;
     if (name.rfind("ModelId", 0) == 0) {
       f.value = format_hex(static_cast<std::uint64_t>(raw), 8);
+    } else if (name == "IntervalFlags") {
+      std::string bits;
+      if ((raw & can::response::kIntervalNoUncertainty) != 0) bits += " NO_UNCERTAINTY";
+      if ((raw & can::response::kIntervalSaturated) != 0) bits += " SATURATED";
+      f.value = std::to_string(raw) + (bits.empty() ? "" : " (" + bits.substr(1) + ")");
     } else if (name == "Reason") {
       f.value = std::to_string(raw) + " (" +
                 can::to_string(static_cast<can::RejectReason>(static_cast<std::uint8_t>(raw))) +
@@ -101,6 +106,12 @@ std::string summarize_can_answer(std::uint32_t base_id,
         ", " + number_of(field_named(all, "CorrY")) + ", " + number_of(field_named(all, "CorrZ")) +
         ") µm";
     if (const FieldValue* id = field_named(all, "ModelId")) s += " model " + id->value;
+  }
+  // Part 3 (protocol version 2, the request set WantInterval): U95 of RAE and any flag.
+  if (const FieldValue* u = field_named(all, "U95RAE")) {
+    const FieldValue* flags = field_named(all, "IntervalFlags");
+    s += (s.empty() ? "" : " ") + std::string("U95 RAE ") + u->value;
+    if (flags != nullptr && flags->value != "0") s += " interval flags " + flags->value;
   }
   if (!rejects.empty()) s += (s.empty() ? "" : "; ") + rejects;
   return s.empty() ? "answer frames without a result" : s;

@@ -22,7 +22,8 @@ std::vector<FieldValue> decode_can_frame(std::uint32_t base_id,
 std::string format_can_frame(std::uint32_t id, const std::vector<std::uint8_t>& data);
 
 /// One line about the answer frames to one request, e.g. "RAE -5.3 µm corr (5.3, 0, 0) µm
-/// model 9149ab07" or "reject: timeout between parts (seq 3, part 1)".
+/// model 9149ab07 U95 RAE 0.68 µm" (U95 only with the interval part, protocol version 2) or
+/// "reject: timeout between parts (seq 3, part 1)".
 std::string summarize_can_answer(std::uint32_t base_id,
                                  const std::vector<std::uint32_t>& ids,
                                  const std::vector<std::vector<std::uint8_t>>& frames);

@@ -51,6 +51,7 @@ class CanSessionBase : public Session {
            value(parts_, "DirY") + ", " + value(parts_, "DirZ") + ") PV " + value(parts_, "PV") +
            " PD " + value(parts_, "PD") + " AV " + value(parts_, "AV") + " AD " +
            value(parts_, "AD") + " Y " + value(parts_, "Y");
+      if (value(parts_, "WantInterval") == "1") s += " +interval";
     }
     return s;
   }

@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmmcomp/plugins/can_protocol.hpp>
@@ -85,7 +86,8 @@ Answer CanLink::ask(const compensation::MoveRequest& move) {
   can::RequestFrames frames{};
   can::RequestField bad = can::RequestField::kNone;
   Answer a;
-  if (can::encode_request(m, base_id_, frames, &bad) != Status::kOk) {
+  // Protocol version 2: WantInterval, so the answer carries U95 (response part 3).
+  if (can::encode_request(m, base_id_, frames, &bad, /*want_interval=*/true) != Status::kOk) {
     a.note = "the move does not fit the CAN request (field " +
              std::to_string(static_cast<int>(bad)) + ")";
     a.status = -1;
@@ -101,10 +103,12 @@ Answer CanLink::ask(const compensation::MoveRequest& move) {
     }
     if (record_.is_open()) record_ << candump_line(now_us(), interface_, f);
   }
-  can::ResponseFrames parts{};
+  // Parts 0-2 (the result) and part 3 (the interval).
+  constexpr int kParts = can::kIntervalPart + 1;
+  std::array<can::Frame, kParts> parts{};
   int next_part = 0;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
-  while (next_part < can::kResponseParts) {
+  while (next_part < kParts) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
                           deadline - std::chrono::steady_clock::now())
                           .count();
@@ -126,6 +130,9 @@ Answer CanLink::ask(const compensation::MoveRequest& move) {
       if (can::decode_reject(f, base_id_, r) && r.sequence == m.sequence) {
         a.status = static_cast<int>(r.reason);
         a.note = std::string("rejected: ") + can::to_string(r.reason);
+        if (r.reason == can::RejectReason::kReservedBits && r.part == 0) {
+          a.note += " (an agent of CAN protocol version 1? the vc sets WantInterval)";
+        }
         return a;
       }
       continue;
@@ -142,12 +149,17 @@ Answer CanLink::ask(const compensation::MoveRequest& move) {
     ++next_part;
   }
   can::DecodedResponse d;
-  if (!can::decode_response(parts, base_id_, d)) {
+  if (!can::decode_response({parts[0], parts[1], parts[2]}, base_id_, d) ||
+      !can::decode_interval(parts[can::kIntervalPart], base_id_, d)) {
     a.note = "malformed response";
     a.status = -1;
     return a;
   }
-  a.flags = d.correction.flags;
+  // As over Modbus: `flags` has the version-1 bits, `interval_flags` every flag (with
+  // kFlagNoUncertainty when the model has no calibration). A saturated U95 reads 81.9 µm.
+  a.flags = d.correction.flags & compensation::kFlagsVersion1;
+  a.interval_flags = d.correction.flags;
+  a.u95_um = d.correction.u95_um;
   a.rae_um = d.correction.rae_um;
   a.correction_um = d.correction.correction_um;
   a.model_id = d.correction.model_id;

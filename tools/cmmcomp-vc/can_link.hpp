@@ -11,8 +11,9 @@
 
 namespace cmmcomp::vc {
 
-/// Asks one agent over CAN (docs/protocol-can.md): three request frames, then waits for the
-/// three response frames of the same sequence or a reject. The socket's kernel filter passes
+/// Asks one agent over CAN (docs/protocol-can.md, protocol version 2): three request frames with
+/// WantInterval, then waits for the four response frames of the same sequence (the result and
+/// the interval: U95 and its flags, as over Modbus) or a reject. The socket's kernel filter passes
 /// only the response and reject identifiers, so heartbeats and other traffic never reach it
 /// (and never reach the recording: it stays deterministic).
 class CanLink final : public CorrectionSource {

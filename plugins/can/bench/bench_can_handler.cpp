@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file In-process cost of the CAN server's per-frame work (no socket): a whole request (three
-/// frames in, three out, one compensator call), a reject, and the codec alone.
+/// frames in, three out, one compensator call; with WantInterval four out), a reject, and the
+/// codec alone.
 #include <benchmark/benchmark.h>
 
 #include <cmmcomp/plugins/can_request_handler.hpp>
@@ -15,13 +16,19 @@ using cmmcomp::plugins::CanFrameBatch;
 using cmmcomp::plugins::CanRequestHandler;
 
 struct Setup {
-  Setup() {
-    (void)comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId);
+  /// `want_interval`: the model is published with its interval calibration and every request
+  /// sets WantInterval (protocol version 2).
+  explicit Setup(bool want_interval = false) {
+    if (want_interval) {
+      (void)cmmcomp::test::publish_example(comp);
+    } else {
+      (void)comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId);
+    }
     for (std::uint32_t s = 0; s < 64; ++s) {
       compensation::MoveRequest m = cmmcomp::test::example_move();
       m.sequence = s;
       m.pv_mm_s = 5.0 + s;
-      (void)encode_request(m, kDefaultBaseId, requests[s]);
+      (void)encode_request(m, kDefaultBaseId, requests[s], nullptr, want_interval);
     }
   }
   compensation::MoveCompensator comp;
@@ -42,6 +49,21 @@ void BM_HandleRequest(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_HandleRequest);
+
+// The same with WantInterval: the U95 of a calibrated model and a fourth response frame.
+void BM_HandleRequestWithInterval(benchmark::State& state) {
+  Setup s(true);
+  CanRequestHandler handler(s.comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  std::size_t n = 0;
+  for (auto _ : state) {
+    const RequestFrames& r = s.requests[n++ % 64];
+    CanFrameBatch out;
+    for (const Frame& f : r) handler.on_frame(f, 0, out);
+    benchmark::DoNotOptimize(out);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_HandleRequestWithInterval);
 
 // A frame with a wrong DLC → one reject frame.
 void BM_HandleWrongDlc(benchmark::State& state) {

@@ -21,6 +21,23 @@ inline compensation::Model<PaperInputs> example_model() {
 }
 inline constexpr std::uint64_t kExampleModelId = 0xC0FFEE01u;
 
+/// The interval calibration of docs/protocol-can.md's second example (WantInterval): 95 %
+/// coverage, in-domain half-widths 2.74, 2.16, 1.3, 0.68 µm for MPE, RPE, MAE, RAE (the example
+/// move is inside the model's ranges, so these are its U95), gain 0.5 per range outside.
+inline compensation::IntervalCalibration example_interval() {
+  compensation::IntervalCalibration cal;
+  cal.coverage = 0.95;
+  cal.half_width = {2.74, 2.16, 1.3, 0.68};
+  cal.extrapolation_gain = {0.5, 0.5, 0.5, 0.5};
+  return cal;
+}
+
+/// Publishes the example model with its interval calibration on axis 0 of `comp`, model id
+/// kExampleModelId (the first example's answers do not depend on the calibration).
+inline Status publish_example(compensation::MoveCompensator& comp) {
+  return comp.publish(0, example_model(), example_interval(), kExampleModelId);
+}
+
 /// The example's move: PV 42.5 mm/s (x̂ = 0.5), approach in −x, sequence 5.
 inline compensation::MoveRequest example_move() {
   compensation::MoveRequest m;
@@ -35,6 +52,13 @@ inline compensation::MoveRequest example_move() {
   m.aa_mm_s2 = 60.0;
   m.y_mm = 250.0;
   m.z_mm = -100.0;
+  return m;
+}
+
+/// The second example's move: the first one, sequence 6 (sent with WantInterval).
+inline compensation::MoveRequest example_interval_move() {
+  compensation::MoveRequest m = example_move();
+  m.sequence = 6;
   return m;
 }
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file A CanServer for the HIL tests: serves the protocol document's closed-form example model on
-/// axis 0 (model id 0xC0FFEE01), prints "ready: <where>" once it listens and its counters when
-/// SIGTERM, SIGINT or --max-seconds stop it.
+/// axis 0 (model id 0xC0FFEE01, with the second example's interval calibration), prints "ready:
+/// <where>" once it listens and its counters when SIGTERM, SIGINT or --max-seconds stop it.
 ///   can_test_server [--interface vcan0] [--base-id 0x300] [--part-timeout-ms 50]
 ///                   [--heartbeat-ms 1000] [--max-seconds 60] [--fd 0|1]
 #include <unistd.h>
@@ -52,8 +52,7 @@ int main(int argc, char** argv) {
   }
   try {
     cmmcomp::compensation::MoveCompensator comp;
-    if (comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId) !=
-        cmmcomp::Status::kOk) {
+    if (cmmcomp::test::publish_example(comp) != cmmcomp::Status::kOk) {
       std::fprintf(stderr, "can_test_server: example model refused\n");
       return 1;
     }
@@ -67,11 +66,13 @@ int main(int argc, char** argv) {
     server.run(g_stop);
     const cmmcomp::plugins::CanCounters c = server.counters();
     std::printf(
-        "counters: frames_in=%llu requests=%llu answered=%llu rejected=%llu malformed=%llu "
-        "timeouts=%llu out_of_range=%llu heartbeats=%llu send_errors=%llu ignored=%llu\n",
+        "counters: frames_in=%llu requests=%llu answered=%llu intervals=%llu rejected=%llu "
+        "malformed=%llu timeouts=%llu out_of_range=%llu heartbeats=%llu send_errors=%llu "
+        "ignored=%llu\n",
         static_cast<unsigned long long>(c.frames_in),
         static_cast<unsigned long long>(c.requests),
         static_cast<unsigned long long>(c.answered),
+        static_cast<unsigned long long>(c.intervals),
         static_cast<unsigned long long>(c.rejected),
         static_cast<unsigned long long>(c.malformed),
         static_cast<unsigned long long>(c.timeouts),

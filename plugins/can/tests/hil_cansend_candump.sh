@@ -3,9 +3,10 @@
 # HIL check with can-utils as the outside peer; runs inside scripts/uml-run.sh (real vcan0).
 #   hil_cansend_candump.sh CAN_TEST_SERVER docs/protocol-can.md
 # Starts the test server (closed-form example model) on vcan0, sends the document's worked
-# example and its reject examples with `cansend`, captures the bus with `candump -L`, and
-# checks that the server's frames are exactly the document's, that the heartbeat carries the
-# model id, and that the server's counters agree.
+# examples (version 1, and version 2 with WantInterval: four response frames) and its reject
+# examples with `cansend`, captures the bus with `candump -L`, and checks that the server's
+# frames are exactly the document's, that the heartbeat carries the model id, the counters and
+# protocol version 2, and that the server's counters agree.
 set -euo pipefail
 server="$1"
 doc="$2"
@@ -40,6 +41,10 @@ block example:request | awk '{ print $3 }' >"$work/request"
 block example:response | awk '{ print $3 }' >"$work/expected"
 [ "$(wc -l <"$work/request")" -eq 3 ] || fail "no 3-frame example request in $doc"
 [ "$(wc -l <"$work/expected")" -eq 3 ] || fail "no 3-frame example response in $doc"
+block example:interval-request | awk '{ print $3 }' >"$work/interval-request"
+block example:interval-response | awk '{ print $3 }' >"$work/interval-expected"
+[ "$(wc -l <"$work/interval-request")" -eq 3 ] || fail "no 3-frame interval request in $doc"
+[ "$(wc -l <"$work/interval-expected")" -eq 4 ] || fail "no 4-frame interval response in $doc"
 
 # A part timeout of 500 ms (default 50 ms): each cansend is a new process, slow under UML and
 # slower on a loaded CI machine; the example's three parts must not time out.
@@ -63,9 +68,12 @@ for _ in $(seq 100); do
 done
 grep -q ' vcan0 303#' "$work/dump" || fail "candump saw no heartbeat within 5 s"
 
-# 1. The worked example: request in, response out.
+# 1. The worked examples: request in, response out (the second with WantInterval: 4 frames).
 while read -r frame; do cansend vcan0 "$frame"; done <"$work/request"
 sleep 0.1
+while read -r frame; do cansend vcan0 "$frame"; done <"$work/interval-request"
+sleep 0.1
+cat "$work/interval-expected" >>"$work/expected"
 
 # 2. The document's reject table, in its order: | `sent` ... | `answer` | why |
 first_part="$(head -n 1 "$work/request")"
@@ -77,6 +85,11 @@ while IFS='|' read -r _ sent answer _; do
     *'part 0 alone'*)
       cansend vcan0 "$first_part"
       sleep 0.7 ;;  # > part timeout: the server must reject on its own
+    *'then parts 1 and 2'*)  # reserved bits are checked when the request is complete
+      cansend vcan0 "$(echo "$sent" | sed -E 's/^[^`]*`([^`]*)`.*$/\1/')"
+      cansend vcan0 "$(sed -n 2p "$work/request")"
+      cansend vcan0 "$(sed -n 3p "$work/request")"
+      sleep 0.1 ;;
     *)
       cansend vcan0 "$(echo "$sent" | sed -E 's/^[^`]*`([^`]*)`.*$/\1/')"
       sleep 0.1 ;;
@@ -86,7 +99,7 @@ done <"$work/rejects"
 want="$(wc -l <"$work/expected")"
 for _ in $(seq 200); do
   got="$(grep -cE ' vcan0 30[12]#' "$work/dump" || true)"
-  [ "$got" -ge "$want" ] && grep -Eq ' vcan0 303#[0-9A-F][08]01000100040001$' "$work/dump" && break
+  [ "$got" -ge "$want" ] && grep -Eq ' vcan0 303#[0-9A-F][08]03000200050021$' "$work/dump" && break
   sleep 0.05
 done
 
@@ -103,19 +116,20 @@ if ! diff -u "$work/expected" "$work/actual" >"$work/diff"; then
   cat "$work/diff" >&2
   fail "server frames differ from the document (expected vs candump)"
 fi
-echo "ok: $(wc -l <"$work/actual") frames as documented (example response and rejects)"
+echo "ok: $(wc -l <"$work/actual") frames as documented (example responses and rejects)"
 
 # Heartbeat page 1 (low 3 bits of byte 0 = 001): model id of axis 0 = 0xC0FFEE01.
 grep -Eq ' vcan0 303#[0-9A-F][19]0001EEFFC00000$' "$work/dump" ||
   fail "no heartbeat page 1 with model id 0xC0FFEE01"
-# Page 0 after the requests: requests 1, answered 1, model mask 1 (rejected = 4 → 0400).
-grep -Eq ' vcan0 303#[0-9A-F][08]01000100040001$' "$work/dump" ||
-  fail "no heartbeat page 0 with requests 1, answered 1, rejected 4, model mask 1"
+# Page 0 after the requests: requests 3, answered 2, rejected 5 (→ 0500), model mask 1 and
+# protocol version 2 (byte 7 = 0x21).
+grep -Eq ' vcan0 303#[0-9A-F][08]03000200050021$' "$work/dump" ||
+  fail "no heartbeat page 0 with requests 3, answered 2, rejected 5, model mask 1, version 2"
 echo "ok: heartbeat with model id and counters"
 
 counters="$(grep '^counters:' "$work/server.out")" || fail "no counters from the server"
-for c in frames_in=7 requests=1 answered=1 rejected=4 malformed=3 timeouts=1 ignored=0 \
-         send_errors=0; do
+for c in frames_in=13 requests=3 answered=2 intervals=1 rejected=5 malformed=4 timeouts=1 \
+         ignored=0 send_errors=0; do
   case " $counters " in *" $c "*) ;; *) fail "server counters: want $c in '$counters'" ;; esac
 done
 echo "ok: $counters"

@@ -226,11 +226,13 @@ std::vector<std::string> example_block(const std::string& marker) {
   return block;
 }
 
-// The worked example: `cansend` lines in, `candump -L` lines out (timestamps aside), through
-// the same handler the server runs, with the closed-form model.
-TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
-  std::vector<Frame> sent;
-  for (const std::string& line : example_block("example:request")) {
+/// The `cansend` frames of the block after <!-- request_marker --> and the `candump -L` frames
+/// (timestamps aside) of the block after <!-- response_marker -->.
+void example_frames(const std::string& request_marker,
+                    const std::string& response_marker,
+                    std::vector<Frame>& sent,
+                    std::vector<std::string>& expected) {
+  for (const std::string& line : example_block(request_marker)) {
     std::istringstream in(line);
     std::string tool, interface, frame;
     in >> tool >> interface >> frame;
@@ -239,14 +241,34 @@ TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
     ASSERT_TRUE(cmmcomp::test::from_text(frame, f)) << line;
     sent.push_back(f);
   }
-  std::vector<std::string> expected;
-  for (const std::string& line : example_block("example:response")) {
+  for (const std::string& line : example_block(response_marker)) {
     std::istringstream in(line);
     std::string stamp, interface, frame;
     in >> stamp >> interface >> frame;
     ASSERT_EQ(stamp.front(), '(') << "candump -L line expected: " << line;
     expected.push_back(frame);
   }
+}
+
+/// What the server's handler answers to `sent` (one frame a millisecond), as candump text.
+std::vector<std::string> answer_of(const std::vector<Frame>& sent, CanFrameBatch& out) {
+  compensation::MoveCompensator comp;
+  EXPECT_EQ(cmmcomp::test::publish_example(comp), Status::kOk);
+  CanRequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
+  std::int64_t t = 0;
+  for (const Frame& f : sent) handler.on_frame(f, t += 1'000'000, out);
+  std::vector<std::string> got;
+  for (std::size_t i = 0; i < out.size; ++i) got.push_back(cmmcomp::test::to_text(out.frames[i]));
+  return got;
+}
+
+// The worked example: `cansend` lines in, `candump -L` lines out (timestamps aside), through
+// the same handler the server runs, with the closed-form model. A version-1 request
+// (WantInterval 0): the three frames of protocol version 1, byte for byte.
+TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
+  std::vector<Frame> sent;
+  std::vector<std::string> expected;
+  example_frames("example:request", "example:response", sent, expected);
   // The document's request is the example move, encoded.
   RequestFrames encoded;
   ASSERT_EQ(encode_request(cmmcomp::test::example_move(), kDefaultBaseId, encoded), Status::kOk);
@@ -254,16 +276,8 @@ TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
   for (std::size_t p = 0; p < kRequestParts; ++p) {
     EXPECT_EQ(cmmcomp::test::to_text(sent[p]), cmmcomp::test::to_text(encoded[p]));
   }
-  compensation::MoveCompensator comp;
-  ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
-            Status::kOk);
-  CanRequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
   CanFrameBatch out;
-  std::int64_t t = 0;
-  for (const Frame& f : sent) handler.on_frame(f, t += 1'000'000, out);
-  std::vector<std::string> got;
-  for (std::size_t i = 0; i < out.size; ++i) got.push_back(cmmcomp::test::to_text(out.frames[i]));
-  EXPECT_EQ(got, expected);
+  EXPECT_EQ(answer_of(sent, out), expected);
   // ... and it says what the document says in words: MPE 3.5, RPE −1, MAE 4, RAE 3.5 µm,
   // correction (−3.5, 0, 0) µm, flags OK, model id 0xC0FFEE01, sequence 5.
   ASSERT_EQ(out.size, kResponseParts);
@@ -272,11 +286,44 @@ TEST(CanProtocolDoc, WorkedExampleIsWhatTheServerAnswers) {
   cmmcomp::test::expect_example_response(d);
 }
 
+// The second worked example: the same move (sequence 6) with WantInterval gets the same three
+// frames and part 3, the interval of the calibrated example model.
+TEST(CanProtocolDoc, WorkedIntervalExampleIsWhatTheServerAnswers) {
+  std::vector<Frame> sent;
+  std::vector<std::string> expected;
+  example_frames("example:interval-request", "example:interval-response", sent, expected);
+  RequestFrames encoded;
+  ASSERT_EQ(encode_request(cmmcomp::test::example_interval_move(),
+                           kDefaultBaseId,
+                           encoded,
+                           nullptr,
+                           /*want_interval=*/true),
+            Status::kOk);
+  ASSERT_EQ(sent.size(), kRequestParts);
+  for (std::size_t p = 0; p < kRequestParts; ++p) {
+    EXPECT_EQ(cmmcomp::test::to_text(sent[p]), cmmcomp::test::to_text(encoded[p]));
+  }
+  CanFrameBatch out;
+  EXPECT_EQ(answer_of(sent, out), expected);
+  ASSERT_EQ(out.size, kResponseParts + 1u);
+  DecodedResponse d;
+  ASSERT_TRUE(decode_response({out.frames[0], out.frames[1], out.frames[2]}, kDefaultBaseId, d));
+  ASSERT_TRUE(decode_interval(out.frames[3], kDefaultBaseId, d));
+  cmmcomp::test::expect_example_interval_response(d);
+  // Parts 0–2 differ from the first example's only in the sequence.
+  std::vector<Frame> v1_sent;
+  std::vector<std::string> v1_expected;
+  example_frames("example:request", "example:response", v1_sent, v1_expected);
+  ASSERT_EQ(v1_expected.size(), kResponseParts);
+  for (std::size_t p = 0; p < kResponseParts; ++p) {
+    EXPECT_EQ(expected[p].substr(6), v1_expected[p].substr(6)) << "part " << p;
+  }
+}
+
 // The document's reject examples (| sent | answer | why |), in order, through one handler.
 TEST(CanProtocolDoc, RejectExamplesAreWhatTheServerAnswers) {
   compensation::MoveCompensator comp;
-  ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
-            Status::kOk);
+  ASSERT_EQ(cmmcomp::test::publish_example(comp), Status::kOk);
   CanRequestHandler handler(comp, kDefaultBaseId, std::chrono::milliseconds(50));
   RequestFrames example;
   ASSERT_EQ(encode_request(cmmcomp::test::example_move(), kDefaultBaseId, example), Status::kOk);
@@ -304,11 +351,16 @@ TEST(CanProtocolDoc, RejectExamplesAreWhatTheServerAnswers) {
       Frame sent;
       ASSERT_TRUE(cmmcomp::test::from_text(between_ticks(c[0]), sent));
       handler.on_frame(sent, t, out);
+      if (c[0].find("then parts 1 and 2") != std::string::npos) {  // checked when complete
+        ASSERT_EQ(out.size, 0u);
+        handler.on_frame(example[1], t + 1'000'000, out);
+        handler.on_frame(example[2], t + 2'000'000, out);
+      }
     }
     ASSERT_EQ(out.size, 1u);
     EXPECT_EQ(cmmcomp::test::to_text(out.frames[0]), between_ticks(c[1]));
   }
-  EXPECT_EQ(rows, 4);
+  EXPECT_EQ(rows, 5);
 }
 
 }  // namespace

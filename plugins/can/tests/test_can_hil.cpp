@@ -3,6 +3,7 @@
 /// socket of its own as the controller: answers, kernel filter, rejects, heartbeat, hot swap.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cmmcomp/plugins/can_server.hpp>
 #include <memory>
@@ -29,8 +30,7 @@ class CanServerHil : public ::testing::Test {
     if (o.heartbeat_period == CanServerOptions{}.heartbeat_period) {
       o.heartbeat_period = std::chrono::milliseconds(0);  // off unless a test wants it
     }
-    ASSERT_EQ(comp_.publish(0, cmmcomp::test::example_model(), cmmcomp::test::kExampleModelId),
-              Status::kOk);
+    ASSERT_EQ(cmmcomp::test::publish_example(comp_), Status::kOk);  // calibrated
     server_ = std::make_unique<CanServer>(comp_, o);
     base_ = o.base_id;
     peer_ = std::make_unique<CanPeer>(o.interface, o.base_id, o.fd);
@@ -83,6 +83,26 @@ TEST_F(CanServerHil, AnswersARequestWithTheClosedFormCorrection) {
   DecodedResponse d;
   ASSERT_TRUE(receive_response(d));
   cmmcomp::test::expect_example_response(d);
+}
+
+// Protocol version 2: WantInterval gets the three frames of version 1 and part 3 (the document's
+// second example), in order, on the real bus.
+TEST_F(CanServerHil, AnswersAnIntervalRequestWithFourFrames) {
+  start();
+  RequestFrames f;
+  ASSERT_EQ(encode_request(cmmcomp::test::example_interval_move(), base_, f, nullptr, true),
+            Status::kOk);
+  ASSERT_TRUE(send_all(f));
+  DecodedResponse d;
+  ASSERT_TRUE(receive_response(d));
+  Frame interval;
+  ASSERT_TRUE(peer_->receive_except(interval, base_ + kHeartbeatOffset, kWaitMs));
+  ASSERT_TRUE(decode_interval(interval, base_, d)) << cmmcomp::test::to_text(interval);
+  cmmcomp::test::expect_example_interval_response(d);
+  EXPECT_EQ(server_->counters().intervals, 1u);
+  // ... and nothing more.
+  Frame extra;
+  EXPECT_FALSE(peer_->receive_except(extra, base_ + kHeartbeatOffset, 200));
 }
 
 TEST_F(CanServerHil, KernelFilterKeepsOtherIdentifiersAway) {
@@ -156,7 +176,8 @@ TEST_F(CanServerHil, HeartbeatCarriesModelIdAndCounters) {
     Frame f;
     ASSERT_TRUE(peer_->receive(f, kWaitMs));
     const int page = decode_heartbeat(f, base_, h);
-    counted = counted || (page == 0 && h.answered == 1 && h.requests == 1 && h.model_mask == 1);
+    counted = counted || (page == 0 && h.answered == 1 && h.requests == 1 && h.model_mask == 1 &&
+                          h.protocol_version == kProtocolVersion);
     id_seen = id_seen || (page == 1 && h.model_ids[0] == cmmcomp::test::kExampleModelId);
   }
   EXPECT_TRUE(counted);
@@ -243,6 +264,21 @@ TEST_F(CanServerHil, CanFdRequestsAreAnsweredInCanFd) {
   ASSERT_TRUE(peer_->receive(r[1], kWaitMs) && peer_->receive(r[2], kWaitMs));
   ASSERT_TRUE(decode_response(r, base_, d));
   EXPECT_EQ(d.correction.sequence, 5u);
+
+  // WantInterval in CAN FD: all four response frames in CAN FD.
+  RequestFrames asking;
+  ASSERT_EQ(encode_request(cmmcomp::test::example_interval_move(), base_, asking, nullptr, true),
+            Status::kOk);
+  for (const Frame& x : asking) ASSERT_TRUE(peer_->send(x, 0, true));
+  std::array<Frame, kResponseParts + 1> four;
+  for (Frame& x : four) {
+    bool fd_answer = false;
+    ASSERT_TRUE(peer_->receive(x, kWaitMs, &fd_answer));
+    EXPECT_TRUE(fd_answer);
+  }
+  ASSERT_TRUE(decode_response({four[0], four[1], four[2]}, base_, d));
+  ASSERT_TRUE(decode_interval(four[3], base_, d));
+  cmmcomp::test::expect_example_interval_response(d);
 
   Frame long_frame = f[0];
   long_frame.dlc = 12;

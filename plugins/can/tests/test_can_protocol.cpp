@@ -167,6 +167,41 @@ TEST(CanCodec, DecodeRejectsRawValuesOutsideTheStatedRange) {
   EXPECT_EQ(decode_request(w, 5, out).reason, RejectReason::kReservedBits);
 }
 
+// Version 2: bit 60 of part 0 is WantInterval; bits 61–63 of part 0 and 60–63 of part 2 stay
+// reserved (reason 8, the part named).
+TEST(CanCodec, WantIntervalIsBit60AndTheOtherReservedBitsStillReject) {
+  RequestFrames plain;
+  RequestFrames asking;
+  ASSERT_EQ(encode_request(cmmcomp::test::example_move(), 0x300, plain), Status::kOk);
+  ASSERT_EQ(encode_request(cmmcomp::test::example_move(), 0x300, asking, nullptr, true),
+            Status::kOk);
+  EXPECT_EQ(load_word(asking[0]), load_word(plain[0]) | (std::uint64_t{1} << 60));
+  EXPECT_EQ(load_word(asking[1]), load_word(plain[1]));
+  EXPECT_EQ(load_word(asking[2]), load_word(plain[2]));
+  MoveRequest out;
+  RequestCheck c = decode_request(words_of(plain), 5, out);
+  EXPECT_EQ(c.reason, RejectReason::kNone);
+  EXPECT_FALSE(c.want_interval);
+  c = decode_request(words_of(asking), 5, out);
+  EXPECT_EQ(c.reason, RejectReason::kNone);
+  EXPECT_TRUE(c.want_interval);
+  EXPECT_EQ(request::kReservedMask[0], 0xE000000000000000u);
+  for (int bit = 61; bit < 64; ++bit) {
+    auto w = words_of(asking);
+    w[0] |= std::uint64_t{1} << bit;
+    c = decode_request(w, 5, out);
+    EXPECT_EQ(c.reason, RejectReason::kReservedBits) << bit;
+    EXPECT_EQ(c.part, 0) << bit;
+  }
+  for (int bit = 60; bit < 64; ++bit) {
+    auto w = words_of(plain);
+    w[2] |= std::uint64_t{1} << bit;
+    c = decode_request(w, 5, out);
+    EXPECT_EQ(c.reason, RejectReason::kReservedBits) << bit;
+    EXPECT_EQ(c.part, 2) << bit;
+  }
+}
+
 TEST(CanCodec, ResponseRoundTripAndOutOfRangeResult) {
   Correction c;
   c.mpe_um = 12.345;
@@ -201,6 +236,84 @@ TEST(CanCodec, ResponseRoundTripAndOutOfRangeResult) {
   c.rpe_um = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(encode_response(c, 0, 0x123, frames, &bad), Status::kInvalidInput);
   EXPECT_EQ(bad, ResponseField::kRpe);
+}
+
+// Part 3: U95 quantised to 0.02 µm, 12 bits; raw 4095 means "81.89 µm or more" (SATURATED);
+// no calibration: NO_UNCERTAINTY and zeros; negative or NaN: rejected, naming the field.
+TEST(CanCodec, IntervalPartRoundTripSaturatesAndFlagsNoUncertainty) {
+  Correction c;
+  c.flags = compensation::kFlagOk;
+  c.sequence = 42;
+  c.u95_um = {2.7344, 0.0, 81.87, 81.889};
+  Frame f;
+  ResponseField bad = ResponseField::kNone;
+  ASSERT_EQ(encode_interval(c, 0x123, f, &bad), Status::kOk);
+  EXPECT_EQ(f.id, 0x124u);
+  EXPECT_EQ(f.dlc, kFrameDlc);
+  const std::uint64_t w = load_word(f);
+  EXPECT_EQ(get_raw(w, response::kPart), 3);
+  EXPECT_EQ(get_raw(w, response::kSequence), 42);
+  EXPECT_EQ(get_raw(w, response::kIntervalFlags), 0);
+  EXPECT_EQ(get_raw(w, response::kU95Mpe), 137);  // 2.7344 / 0.02 = 136.72
+  EXPECT_EQ(get_raw(w, response::kU95Rpe), 0);
+  EXPECT_EQ(get_raw(w, response::kU95Mae), 4094);  // 81.87 rounds to 81.88: still exact
+  EXPECT_EQ(get_raw(w, response::kU95Rae), 4094);  // 81.889 too
+  DecodedResponse d;
+  d.correction.sequence = 42;
+  ASSERT_TRUE(decode_interval(f, 0x123, d));
+  EXPECT_TRUE(d.has_interval);
+  EXPECT_EQ(d.interval_flags, 0);
+  EXPECT_NEAR(d.correction.u95_um[0], 2.74, 1e-12);
+  EXPECT_NEAR(d.correction.u95_um[2], 81.88, 1e-9);
+  DecodedResponse other;
+  other.correction.sequence = 41;
+  EXPECT_FALSE(decode_interval(f, 0x123, other));  // another sequence
+  EXPECT_FALSE(other.has_interval);
+
+  // Saturation: 81.89 µm and above, inf included, sent as raw 4095 with SATURATED.
+  c.u95_um = {81.89, 1e12, std::numeric_limits<double>::infinity(), 0.68};
+  ASSERT_EQ(encode_interval(c, 0x123, f), Status::kOk);
+  d = DecodedResponse{};
+  d.correction.sequence = 42;
+  ASSERT_TRUE(decode_interval(f, 0x123, d));
+  EXPECT_EQ(d.interval_flags, response::kIntervalSaturated);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(d.correction.u95_um[k], 81.9, 1e-9) << k;
+  EXPECT_NEAR(d.correction.u95_um[3], 0.68, 1e-12);
+  EXPECT_EQ(get_raw(load_word(f), response::kU95Mpe), 4095);
+
+  // No calibration: NO_UNCERTAINTY, every U95 0 whatever the Correction holds.
+  c.flags = compensation::kFlagOk | compensation::kFlagNoUncertainty;
+  c.u95_um = {5.0, 5.0, 5.0, 5.0};
+  ASSERT_EQ(encode_interval(c, 0x123, f), Status::kOk);
+  EXPECT_EQ(load_word(f) >> 16, 0u);
+  d = DecodedResponse{};
+  d.correction.sequence = 42;
+  d.correction.flags = compensation::kFlagOk;
+  ASSERT_TRUE(decode_interval(f, 0x123, d));
+  EXPECT_EQ(d.interval_flags, response::kIntervalNoUncertainty);
+  EXPECT_EQ(d.correction.flags, compensation::kFlagOk | compensation::kFlagNoUncertainty);
+  for (const double u : d.correction.u95_um) EXPECT_EQ(u, 0.0);
+
+  // Negative or NaN: no frame, the field named (reject reason 12, Detail 8..11).
+  c.flags = compensation::kFlagOk;
+  c.u95_um = {1.0, 1.0, -0.01, 1.0};
+  EXPECT_EQ(encode_interval(c, 0x123, f, &bad), Status::kInvalidInput);
+  EXPECT_EQ(bad, ResponseField::kU95Mae);
+  c.u95_um = {1.0, 1.0, 1.0, std::numeric_limits<double>::quiet_NaN()};
+  EXPECT_EQ(encode_interval(c, 0x123, f, &bad), Status::kInvalidInput);
+  EXPECT_EQ(bad, ResponseField::kU95Rae);
+  EXPECT_EQ(static_cast<int>(ResponseField::kU95Rae), 11);
+  c.u95_um = {1.0, 1.0, 1.0, 1.0};
+  c.sequence = 64;
+  EXPECT_EQ(encode_interval(c, 0x123, f), Status::kInvalidInput);
+
+  // A response frame of parts 0-2 is not part 3.
+  c.sequence = 42;
+  ResponseFrames parts;
+  ASSERT_EQ(encode_response(c, 0, 0x123, parts), Status::kOk);
+  d = DecodedResponse{};
+  d.correction.sequence = 42;
+  EXPECT_FALSE(decode_interval(parts[2], 0x123, d));
 }
 
 TEST(CanCodec, RejectAndHeartbeatRoundTrip) {
@@ -241,6 +354,15 @@ TEST(CanCodec, RejectAndHeartbeatRoundTrip) {
   EXPECT_EQ(seen.rejected, 10);
   EXPECT_EQ(seen.model_mask, 0b1010);
   EXPECT_EQ(seen.model_ids, h.model_ids);
+  // Version 2 in page 0, bits 60-63; a version-1 server sent 0 there.
+  EXPECT_EQ(seen.protocol_version, 2);
+  EXPECT_EQ(kProtocolVersion, 2);
+  EXPECT_EQ(load_word(encode_heartbeat(h, 0, 0x300)) >> 60, 2u);
+  Frame v1 = encode_heartbeat(h, 0, 0x300);
+  v1.data[7] &= 0x0F;
+  ASSERT_EQ(decode_heartbeat(v1, 0x300, seen), 0);
+  EXPECT_EQ(seen.protocol_version, 0);
+  EXPECT_EQ(seen.model_mask, 0b1010);
 }
 
 }  // namespace

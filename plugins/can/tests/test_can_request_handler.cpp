@@ -3,6 +3,7 @@
 /// docs/protocol-can.md ("Reassembly") and the counters.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cmmcomp/plugins/can_request_handler.hpp>
 #include <limits>
 #include <vector>
@@ -242,6 +243,119 @@ TEST_F(RequestHandlerTest, ResultThatDoesNotFitIsRejectedNotWrapped) {
   EXPECT_EQ(r.detail, static_cast<std::uint8_t>(ResponseField::kMpe));
 }
 
+// ---- Protocol version 2: WantInterval and response part 3 ----------------------------------
+
+/// The frames `handler` sends for request `f` (three parts, 1 ms apart from `t_ms`).
+std::vector<Frame> answer(CanRequestHandler& handler, const RequestFrames& f, std::int64_t t_ms) {
+  CanFrameBatch out;
+  for (const Frame& x : f) handler.on_frame(x, (t_ms++) * kMs, out);
+  return {out.frames.begin(), out.frames.begin() + static_cast<std::ptrdiff_t>(out.size)};
+}
+
+RequestFrames interval_request(const compensation::MoveRequest& m) {
+  RequestFrames f;
+  EXPECT_EQ(encode_request(m, kBase, f, nullptr, /*want_interval=*/true), Status::kOk);
+  return f;
+}
+
+// A version-1 request (bit 60 clear) gets the three frames it always got, byte for byte, even
+// from a calibrated model; the same request with WantInterval gets those three frames and part 3
+// with the compensator's own U95, quantised to 0.02 µm.
+TEST(CanRequestHandlerInterval, WantIntervalAddsPart3WithTheCompensatorsU95) {
+  compensation::MoveCompensator comp;
+  ASSERT_EQ(cmmcomp::test::publish_example(comp), Status::kOk);
+  CanRequestHandler handler(comp, kBase, std::chrono::milliseconds(50));
+  compensation::MoveRequest m = cmmcomp::test::example_move();
+  m.pv_mm_s = 120.0;  // outside the training range of PV (5-80 mm/s): the interval grows
+  m.sequence = 11;
+  RequestFrames v1;
+  ASSERT_EQ(encode_request(m, kBase, v1), Status::kOk);
+  const std::vector<Frame> old = answer(handler, v1, 0);
+  ASSERT_EQ(old.size(), kResponseParts);
+  const std::vector<Frame> got = answer(handler, interval_request(m), 10);
+  ASSERT_EQ(got.size(), kResponseParts + 1u);
+  for (std::size_t p = 0; p < kResponseParts; ++p) {
+    EXPECT_EQ(cmmcomp::test::to_text(got[p]), cmmcomp::test::to_text(old[p])) << p;
+  }
+  compensation::Correction expected;
+  ASSERT_TRUE(ok(comp.before_approach(m, expected)));
+  ASSERT_EQ(expected.flags & compensation::kFlagNoUncertainty, 0u);
+  DecodedResponse d;
+  ASSERT_TRUE(decode_response({got[0], got[1], got[2]}, kBase, d));
+  ASSERT_TRUE(decode_interval(got[3], kBase, d));
+  EXPECT_EQ(d.interval_flags, 0);
+  EXPECT_EQ(d.correction.flags, compensation::kFlagOk | compensation::kFlagOutsideDomain);
+  for (std::size_t k = 0; k < 4; ++k) {
+    const double quantised = std::round(expected.u95_um[k] / 0.02) * 0.02;
+    EXPECT_NEAR(d.correction.u95_um[k], quantised, 1e-9) << k;
+    EXPECT_NEAR(d.correction.u95_um[k], expected.u95_um[k], 0.01 + 1e-9) << k;
+    EXPECT_GT(d.correction.u95_um[k], cmmcomp::test::example_interval().half_width[k]) << k;
+  }
+  const CanCounters c = handler.counters();
+  EXPECT_EQ(c.requests, 2u);
+  EXPECT_EQ(c.answered, 2u);
+  EXPECT_EQ(c.intervals, 1u);
+  EXPECT_EQ(c.rejected, 0u);
+}
+
+// A model without an interval calibration: part 3 says NO_UNCERTAINTY and every U95 is 0.
+TEST_F(RequestHandlerTest, ModelWithoutCalibrationSendsNoUncertaintyAndZeros) {
+  compensation::MoveRequest m = cmmcomp::test::example_move();
+  const std::vector<Frame> got = answer(handler_, interval_request(m), 0);
+  ASSERT_EQ(got.size(), 4u);
+  EXPECT_EQ(cmmcomp::test::to_text(got[3]), "301#1701000000000000");
+  DecodedResponse d;
+  ASSERT_TRUE(decode_response({got[0], got[1], got[2]}, kBase, d));
+  EXPECT_EQ(d.correction.flags, compensation::kFlagOk);  // parts 0-2: version-1 flags only
+  ASSERT_TRUE(decode_interval(got[3], kBase, d));
+  EXPECT_EQ(d.interval_flags, response::kIntervalNoUncertainty);
+  EXPECT_EQ(d.correction.flags, compensation::kFlagOk | compensation::kFlagNoUncertainty);
+  for (const double u : d.correction.u95_um) EXPECT_EQ(u, 0.0);
+}
+
+// A U95 too large for its 12 bits is sent as raw 4095 with SATURATED; the answer is still given
+// (results out of range are still rejected: ResultThatDoesNotFitIsRejectedNotWrapped).
+TEST(CanRequestHandlerInterval, HugeU95SaturatesWithTheFlag) {
+  compensation::MoveCompensator comp;
+  compensation::IntervalCalibration cal;
+  cal.coverage = 0.95;
+  cal.half_width = {1.0, 1.0, 1.0, 0.5};
+  cal.extrapolation_gain = {1000.0, 0.0, 0.0, 0.0};
+  ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), cal, 7), Status::kOk);
+  CanRequestHandler handler(comp, kBase, std::chrono::milliseconds(50));
+  compensation::MoveRequest m = cmmcomp::test::example_move();
+  m.pv_mm_s = 200.0;  // 1.6 ranges above PV's range: U95 of MPE = 1 · (1 + 1000 · 1.6) µm
+  const std::vector<Frame> got = answer(handler, interval_request(m), 0);
+  ASSERT_EQ(got.size(), 4u);
+  DecodedResponse d;
+  ASSERT_TRUE(decode_response({got[0], got[1], got[2]}, kBase, d));
+  ASSERT_TRUE(decode_interval(got[3], kBase, d));
+  EXPECT_EQ(d.interval_flags, response::kIntervalSaturated);
+  EXPECT_EQ(get_raw(load_word(got[3]), response::kU95Mpe), 4095);
+  EXPECT_NEAR(d.correction.u95_um[0], 81.9, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[1], 1.0, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[3], 0.5, 1e-9);
+  EXPECT_EQ(handler.counters().answered, 1u);
+  EXPECT_EQ(handler.counters().out_of_range, 0u);
+}
+
+// Bits 61-63 of part 0 (and 60-63 of part 2) are still reserved: reason 8, with or without
+// WantInterval.
+TEST_F(RequestHandlerTest, ReservedBitsNextToWantIntervalStillReject) {
+  for (int bit = 61; bit < 64; ++bit) {
+    RequestFrames f = interval_request(cmmcomp::test::example_move());
+    f[0].data[7] = static_cast<std::uint8_t>(f[0].data[7] | (1u << (bit - 56)));
+    const std::vector<Frame> got = answer(handler_, f, bit * 10);
+    ASSERT_EQ(got.size(), 1u) << bit;
+    const RejectInfo r = reject_of(got);
+    EXPECT_EQ(r.reason, RejectReason::kReservedBits) << bit;
+    EXPECT_EQ(r.part, 0) << bit;
+    EXPECT_EQ(r.sequence, 5) << bit;
+  }
+  EXPECT_EQ(handler_.counters().intervals, 0u);
+  EXPECT_EQ(handler_.counters().answered, 0u);
+}
+
 TEST_F(RequestHandlerTest, OtherIdentifiersAreIgnored) {
   Frame other = request(1)[0];
   other.id = kBase + kResponseOffset;
@@ -261,6 +375,8 @@ TEST_F(RequestHandlerTest, HeartbeatCarriesCountersAndModelIds) {
   EXPECT_EQ(h.answered, 1);
   EXPECT_EQ(h.model_mask, 0b0001);
   EXPECT_EQ(h.model_ids[0], cmmcomp::test::kExampleModelId);
+  EXPECT_EQ(h.protocol_version, 2);
+  EXPECT_EQ(load_word(encode_heartbeat(h, 0, kBase)) >> 60, 2u);
   EXPECT_EQ(handler_.next_heartbeat().tick, 1);
 }
 

@@ -192,4 +192,33 @@ TEST(CanDecode, NamesTheSignalsOfAResponsePart) {
   EXPECT_TRUE(cmmcomp::replay::decode_can_frame(0x300, 0x123, r.messages[0].bytes).empty());
 }
 
+// Protocol version 2: response part 3 (docs/protocol-can.md's second worked example) and the
+// request's WantInterval, by name; the answer's summary adds U95 of RAE and any interval flag.
+TEST(CanDecode, NamesTheSignalsOfTheIntervalPart) {
+  const Recording r = candump(
+      "(1.000000) vcan0 301#1B0089C006412002\n(1.000001) vcan0 301#1B03000000000000\n"
+      "(1.000002) vcan0 300#18A901A00F200310\n");
+  const auto fields = cmmcomp::replay::decode_can_frame(0x300, 0x301, r.messages[0].bytes);
+  ASSERT_NE(field(fields, 1), nullptr);
+  EXPECT_EQ(field(fields, 1)->name, "IntervalFlags");
+  EXPECT_EQ(field(fields, 1)->value, "0");
+  EXPECT_EQ(field(fields, 2)->name, "U95MPE");
+  EXPECT_EQ(field(fields, 2)->value, "2.74 µm");
+  EXPECT_EQ(field(fields, 4)->name, "U95RPE");
+  EXPECT_EQ(field(fields, 4)->value, "2.16 µm");
+  EXPECT_EQ(field(fields, 7)->name, "U95RAE");
+  EXPECT_EQ(field(fields, 7)->value, "0.68 µm");
+  EXPECT_EQ(cmmcomp::replay::summarize_can_answer(0x300, {0x301}, {r.messages[0].bytes}),
+            "U95 RAE 0.68 µm");
+  const auto flagged = cmmcomp::replay::decode_can_frame(0x300, 0x301, r.messages[1].bytes);
+  EXPECT_EQ(field(flagged, 1)->value, "3 (NO_UNCERTAINTY SATURATED)");
+  EXPECT_EQ(cmmcomp::replay::summarize_can_answer(0x300, {0x301}, {r.messages[1].bytes}),
+            "U95 RAE 0 µm interval flags 3 (NO_UNCERTAINTY SATURATED)");
+  const auto request = cmmcomp::replay::decode_can_frame(0x300, 0x300, r.messages[2].bytes);
+  const FieldValue* want = cmmcomp::replay::field_named(request, "WantInterval");
+  ASSERT_NE(want, nullptr);
+  EXPECT_EQ(want->value, "1");
+  EXPECT_EQ(want->begin, 7u);
+}
+
 }  // namespace

@@ -26,18 +26,23 @@ args=(--can vcan0 --lengths 20,100,400 --y 0,250 --repeats 1 --seed 7)
 "$vc" "${args[@]}" --json --record "$out/session1.log" >"$out/report1.json"
 "$vc" "${args[@]}" --json --record "$out/session2.log" >"$out/report2.json"
 
-# 3 lengths × 2 Y × 2 faces = 12 requests: 3 request + 3 response frames each. Heartbeats
-# (base + 3) are filtered by the vc's socket and must not appear.
+# 3 lengths × 2 Y × 2 faces = 12 requests: 3 request + 4 response frames each (the vc sets
+# WantInterval: parts 0-2 and the interval, part 3). Heartbeats (base + 3) are filtered by the
+# vc's socket and must not appear.
 lines=$(wc -l <"$out/session1.log")
-[ "$lines" -eq 72 ] || { echo "expected 72 frames, got $lines"; cat "$out/session1.log"; exit 1; }
+[ "$lines" -eq 84 ] || { echo "expected 84 frames, got $lines"; cat "$out/session1.log"; exit 1; }
 bad=$(grep -cvE '^\([0-9]+\.[0-9]{6}\) vcan0 30[01]#[0-9A-F]{16}$' "$out/session1.log" || true)
 [ "$bad" -eq 0 ] || { echo "$bad lines not in candump -l format"; exit 1; }
 [ "$(grep -c ' 300#' "$out/session1.log")" -eq 36 ] || { echo "request frame count"; exit 1; }
+# Every response has its part 3 (first byte: part 3 in bits 0-1) and the model is calibrated:
+# IntervalFlags (byte 1) 00.
+[ "$(grep -cE ' 301#[0-9A-F]([37BF])00' "$out/session1.log")" -eq 12 ] ||
+  { echo "interval part count (part 3, IntervalFlags 0)"; exit 1; }
 
 # can-utils reads it: log2asc converts every frame.
 log2asc -I "$out/session1.log" -O "$out/session1.asc" vcan0
 asc=$(grep -cE '^ +[0-9]+\.[0-9]+ +1 +30[01] +Rx +d 8' "$out/session1.asc" || true)
-[ "$asc" -eq 72 ] || { echo "log2asc converted $asc of 72 frames"; cat "$out/session1.asc"; exit 1; }
+[ "$asc" -eq 84 ] || { echo "log2asc converted $asc of 84 frames"; cat "$out/session1.asc"; exit 1; }
 
 # Deterministic: the same frames in the same order, only the timestamps differ.
 # (No process substitution: the guest has no /dev/fd.)
@@ -68,7 +73,7 @@ done
 "$vc" --agent a=can:vcan0 --agent b=can:vcan0:0x310 --lengths 20 --y 250 --repeats 1 \
   --record "$out/two.log" >"$out/two.txt"
 [ "$(grep -c ' 310#' "$out/two.b.log")" -eq 6 ] || { echo "agent b: request frames"; exit 1; }
-[ "$(grep -c ' 311#' "$out/two.b.log")" -eq 6 ] || { echo "agent b: response frames"; exit 1; }
-[ "$(grep -c ' 301#' "$out/two.a.log")" -eq 6 ] || { echo "agent a: response frames"; exit 1; }
+[ "$(grep -c ' 311#' "$out/two.b.log")" -eq 8 ] || { echo "agent b: response frames"; exit 1; }
+[ "$(grep -c ' 301#' "$out/two.a.log")" -eq 8 ] || { echo "agent a: response frames"; exit 1; }
 grep -q "fast + b compensation" "$out/two.txt" || { cat "$out/two.txt"; exit 1; }
 echo "hil_vc_can: ok ($lines frames recorded, log2asc read them, runs identical)"

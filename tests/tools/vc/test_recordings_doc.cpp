@@ -102,13 +102,24 @@ TEST(RecordingsDoc, CandumpExampleHasTheDocumentedFormAndDecodes) {
     EXPECT_EQ(candump_line(us, "vcan0", f), l + "\n");
     frames.push_back(f);
   }
-  ASSERT_EQ(frames.size(), 6u);
+  // Three request frames (WantInterval set), four response frames (CAN protocol version 2).
+  ASSERT_EQ(frames.size(), 7u);
+  EXPECT_EQ(plugins::can::get_raw(plugins::can::load_word(frames[0]),
+                                  plugins::can::request::kWantInterval),
+            1);
   plugins::can::ResponseFrames resp{frames[3], frames[4], frames[5]};
   plugins::can::DecodedResponse d;
   ASSERT_TRUE(plugins::can::decode_response(resp, 0x300, d));
-  EXPECT_NEAR(d.correction.rae_um, -5.30, 1e-9);
-  EXPECT_NEAR(d.correction.correction_um[0], 5.30, 1e-9);
-  EXPECT_EQ(d.correction.model_id, 0x9149AB07u);
+  ASSERT_TRUE(plugins::can::decode_interval(frames[6], 0x300, d));
+  EXPECT_NEAR(d.correction.mpe_um, 21.59, 1e-9);
+  EXPECT_NEAR(d.correction.rae_um, -4.78, 1e-9);
+  EXPECT_NEAR(d.correction.correction_um[0], 4.78, 1e-9);
+  EXPECT_EQ(d.correction.model_id, 0x8E0B80BEu);
+  EXPECT_EQ(d.interval_flags, 0);
+  EXPECT_NEAR(d.correction.u95_um[0], 2.74, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[1], 2.16, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[2], 1.30, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[3], 0.68, 1e-9);
 }
 
 }  // namespace

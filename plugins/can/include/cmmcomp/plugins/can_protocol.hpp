@@ -8,6 +8,12 @@
 /// little-endian word made of the 8 data bytes — the DBC's `start|length@1`.
 /// A physical value v is sent as raw = round((v − offset)/factor); a value whose raw would fall
 /// outside [min, max]/factor is rejected (Status::kInvalidInput), never wrapped or clamped.
+/// The one exception is a U95 of the interval part (response part 3): it saturates at its
+/// largest raw value, flagged (docs/protocol-can.md, "Interval").
+///
+/// Protocol version 2 (kProtocolVersion): version 1 plus the request bit WantInterval, the
+/// response's part 3 (the 95 % prediction interval) and the heartbeat's ProtocolVersion. A
+/// request with WantInterval 0 gets exactly the frames of version 1.
 #pragma once
 
 #include <array>
@@ -33,16 +39,24 @@ inline constexpr std::uint32_t kDefaultBaseId = 0x300;
 /// Largest 11-bit identifier.
 inline constexpr std::uint32_t kMaxStandardId = 0x7FF;
 
+/// Version of the protocol this codec speaks, sent in every heartbeat (page 0, ProtocolVersion).
+/// Version 1 servers sent 0 in those bits.
+inline constexpr std::uint8_t kProtocolVersion = 2;
+
 /// Identifier offsets from the base id.
 inline constexpr std::uint32_t kRequestOffset = 0;    ///< controller → server, 3 parts
-inline constexpr std::uint32_t kResponseOffset = 1;   ///< server → controller, 3 parts
+inline constexpr std::uint32_t kResponseOffset = 1;   ///< server → controller, 3 or 4 parts
 inline constexpr std::uint32_t kRejectOffset = 2;     ///< server → controller, 1 frame
 inline constexpr std::uint32_t kHeartbeatOffset = 3;  ///< server → controller, 5 pages
 inline constexpr std::uint32_t kMessageCount = 4;
 
 /// Parts of a request and of a response; pages of a heartbeat.
 inline constexpr std::uint8_t kRequestParts = 3;
+/// Parts 0–2 of a response: the result, what every version-1 client reads.
 inline constexpr std::uint8_t kResponseParts = 3;
+/// Part 3 of a response, the prediction interval: sent after parts 0–2 when the request asked
+/// for it (WantInterval).
+inline constexpr std::uint8_t kIntervalPart = 3;
 inline constexpr std::uint8_t kHeartbeatPages = 5;
 /// The sequence number is 6 bits: 0..63, incremented (mod 64) by the controller per request.
 inline constexpr std::uint8_t kSequenceMask = 0x3F;
@@ -97,6 +111,8 @@ inline constexpr SignalSpec kPv{"PV", 8, 16, false, 0.1, 0, 0.1, 6000, "mm/s", 0
 inline constexpr SignalSpec kPd{"PD", 24, 16, false, 0.01, 0, 0.01, 600, "mm", 0};
 inline constexpr SignalSpec kAv{"AV", 40, 16, false, 0.01, 0, 0.01, 600, "mm/s", 0};
 inline constexpr SignalSpec kAxis{"Axis", 56, 4, false, 1, 0, 0, 3, "", 0};
+/// Version 2: 1 asks for the prediction interval (response part 3). Version-1 clients send 0.
+inline constexpr SignalSpec kWantInterval{"WantInterval", 60, 1, false, 1, 0, 0, 1, "", 0};
 // Part 1: AD (a model input), the accelerations and the carriage position.
 inline constexpr SignalSpec kAd{"AD", 8, 16, false, 0.001, 0, 0.001, 60, "mm", 1};
 inline constexpr SignalSpec kPa{"PA", 24, 12, false, 5, 0, 5, 20000, "mm/s2", 1};
@@ -107,18 +123,31 @@ inline constexpr SignalSpec kZ{"Z", 8, 16, true, 0.1, 0, -3000, 3000, "mm", 2};
 inline constexpr SignalSpec kDirX{"DirX", 24, 12, true, 0.0005, 0, -1, 1, "", 2};
 inline constexpr SignalSpec kDirY{"DirY", 36, 12, true, 0.0005, 0, -1, 1, "", 2};
 inline constexpr SignalSpec kDirZ{"DirZ", 48, 12, true, 0.0005, 0, -1, 1, "", 2};
-inline constexpr std::array<SignalSpec, 14> kSignals{
-    kPart, kSequence, kPv, kPd, kAv, kAxis, kAd, kPa, kAa, kY, kZ, kDirX, kDirY, kDirZ};
+inline constexpr std::array<SignalSpec, 15> kSignals{kPart,
+                                                     kSequence,
+                                                     kPv,
+                                                     kPd,
+                                                     kAv,
+                                                     kAxis,
+                                                     kWantInterval,
+                                                     kAd,
+                                                     kPa,
+                                                     kAa,
+                                                     kY,
+                                                     kZ,
+                                                     kDirX,
+                                                     kDirY,
+                                                     kDirZ};
 /// Bits that must be 0 in each part (reserved for later versions of the protocol).
 inline constexpr std::array<std::uint64_t, kRequestParts> kReservedMask{
-    0xF000000000000000ull, 0, 0xF000000000000000ull};
+    0xE000000000000000ull, 0, 0xF000000000000000ull};
 /// |decoded direction| must be within 1 ± this before the server normalises it.
 inline constexpr double kDirectionNormTolerance = 0.01;
 }  // namespace request
 
-// ---- Response (base + 1): the correction, in three parts -------------------------------------
+// ---- Response (base + 1): the correction in three parts, and the interval in a fourth -------
 namespace response {
-inline constexpr SignalSpec kPart{"RespPart", 0, 2, false, 1, 0, 0, 2, "", kMultiplexor};
+inline constexpr SignalSpec kPart{"RespPart", 0, 2, false, 1, 0, 0, 3, "", kMultiplexor};
 inline constexpr SignalSpec kSequence{
     "RespSequence", 2, 6, false, 1, 0, 0, 63, "", kNotMultiplexed};
 inline constexpr SignalSpec kFlags{"Flags", 8, 4, false, 1, 0, 0, 15, "", 0};
@@ -131,8 +160,35 @@ inline constexpr SignalSpec kCorrX{"CorrX", 24, 16, true, 0.01, 0, -327.67, 327.
 inline constexpr SignalSpec kCorrY{"CorrY", 40, 16, true, 0.01, 0, -327.67, 327.67, "um", 1};
 inline constexpr SignalSpec kCorrZ{"CorrZ", 8, 16, true, 0.01, 0, -327.67, 327.67, "um", 2};
 inline constexpr SignalSpec kModelId{"ModelId", 24, 32, false, 1, 0, 0, 4294967295.0, "", 2};
-inline constexpr std::array<SignalSpec, 12> kSignals{
-    kPart, kSequence, kFlags, kAxis, kMpe, kRpe, kMae, kRae, kCorrX, kCorrY, kCorrZ, kModelId};
+// Part 3 (version 2, only when the request set WantInterval): the 95 % prediction interval's
+// half-widths. Raw 4095 (81.9 µm) means "81.89 µm or more" and comes with kIntervalSaturated.
+inline constexpr SignalSpec kIntervalFlags{"IntervalFlags", 8, 8, false, 1, 0, 0, 255, "", 3};
+inline constexpr SignalSpec kU95Mpe{"U95MPE", 16, 12, false, 0.02, 0, 0, 81.9, "um", 3};
+inline constexpr SignalSpec kU95Rpe{"U95RPE", 28, 12, false, 0.02, 0, 0, 81.9, "um", 3};
+inline constexpr SignalSpec kU95Mae{"U95MAE", 40, 12, false, 0.02, 0, 0, 81.9, "um", 3};
+inline constexpr SignalSpec kU95Rae{"U95RAE", 52, 12, false, 0.02, 0, 0, 81.9, "um", 3};
+inline constexpr std::array<SignalSpec, 17> kSignals{kPart,
+                                                     kSequence,
+                                                     kFlags,
+                                                     kAxis,
+                                                     kMpe,
+                                                     kRpe,
+                                                     kMae,
+                                                     kRae,
+                                                     kCorrX,
+                                                     kCorrY,
+                                                     kCorrZ,
+                                                     kModelId,
+                                                     kIntervalFlags,
+                                                     kU95Mpe,
+                                                     kU95Rpe,
+                                                     kU95Mae,
+                                                     kU95Rae};
+/// The U95 signals in Correction::u95_um's order (MPE, RPE, MAE, RAE).
+inline constexpr std::array<SignalSpec, 4> kU95{kU95Mpe, kU95Rpe, kU95Mae, kU95Rae};
+/// Bits of IntervalFlags.
+inline constexpr std::uint8_t kIntervalNoUncertainty = 1u << 0;  ///< no calibration: U95 unknown
+inline constexpr std::uint8_t kIntervalSaturated = 1u << 1;      ///< a U95 sent as raw 4095
 }  // namespace response
 
 // ---- Reject (base + 2): one frame per rejected request or frame ------------------------------
@@ -158,6 +214,8 @@ inline constexpr SignalSpec kRequests{"Requests", 8, 16, false, 1, 0, 0, 65535, 
 inline constexpr SignalSpec kAnswered{"Answered", 24, 16, false, 1, 0, 0, 65535, "", 0};
 inline constexpr SignalSpec kRejected{"Rejected", 40, 16, false, 1, 0, 0, 65535, "", 0};
 inline constexpr SignalSpec kModelMask{"ModelMask", 56, 4, false, 1, 0, 0, 15, "", 0};
+/// Version 2: kProtocolVersion. Version-1 servers sent 0 here (the bits were reserved).
+inline constexpr SignalSpec kVersion{"ProtocolVersion", 60, 4, false, 1, 0, 0, 15, "", 0};
 inline constexpr SignalSpec kModelId0{
     "ModelIdAxis0", 16, 48, false, 1, 0, 0, 281474976710655.0, "", 1};
 inline constexpr SignalSpec kModelId1{
@@ -166,12 +224,13 @@ inline constexpr SignalSpec kModelId2{
     "ModelIdAxis2", 16, 48, false, 1, 0, 0, 281474976710655.0, "", 3};
 inline constexpr SignalSpec kModelId3{
     "ModelIdAxis3", 16, 48, false, 1, 0, 0, 281474976710655.0, "", 4};
-inline constexpr std::array<SignalSpec, 10> kSignals{kPage,
+inline constexpr std::array<SignalSpec, 11> kSignals{kPage,
                                                      kTick,
                                                      kRequests,
                                                      kAnswered,
                                                      kRejected,
                                                      kModelMask,
+                                                     kVersion,
                                                      kModelId0,
                                                      kModelId1,
                                                      kModelId2,
@@ -210,7 +269,7 @@ enum class RejectReason : std::uint8_t {
   kTimeout = 5,           ///< the next part did not come within the part timeout
   kIncomplete = 6,        ///< a new part 0 came before the request being assembled was complete
   kFieldOutOfRange = 7,   ///< a field outside its range; Detail = RequestField
-  kReservedBits = 8,      ///< a reserved bit was set
+  kReservedBits = 8,      ///< a reserved bit was set (request part 0 bits 61–63, part 2 60–63)
   kInvalidMove = 9,       ///< the compensator refused the move (kInvalidInput); Status set
   kNoModel = 10,          ///< no model published for the axis
   kOutsideDomain = 11,    ///< outside the training domain and the policy rejects it
@@ -278,6 +337,10 @@ enum class ResponseField : std::uint8_t {
   kCorrX = 5,
   kCorrY = 6,
   kCorrZ = 7,
+  kU95Mpe = 8,  ///< a U95 that is negative or NaN (a large one saturates instead)
+  kU95Rpe = 9,
+  kU95Mae = 10,
+  kU95Rae = 11,
 };
 
 // ---- Bit packing ------------------------------------------------------------------------------
@@ -401,12 +464,14 @@ constexpr void store_frames(const std::array<std::uint64_t, kParts>& words,
 using RequestFrames = std::array<Frame, kRequestParts>;
 
 /// Encodes `move` (its sequence must be ≤ 63: the caller counts modulo 64) as three request frames
-/// for `base_id`. Returns kOk, or kInvalidInput with `*bad` (if given) naming the first field that
-/// is NaN, inf or outside its range; `out` is then unspecified. RT-safe.
+/// for `base_id`; `want_interval` sets WantInterval (version 2: the answer gets part 3, the
+/// prediction interval). Returns kOk, or kInvalidInput with `*bad` (if given) naming the first
+/// field that is NaN, inf or outside its range; `out` is then unspecified. RT-safe.
 inline Status encode_request(const compensation::MoveRequest& move,
                              std::uint32_t base_id,
                              RequestFrames& out,
-                             RequestField* bad = nullptr) noexcept {
+                             RequestField* bad = nullptr,
+                             bool want_interval = false) noexcept {
   const EncodedValue<RequestField> items[] = {
       {&request::kPv, move.pv_mm_s, RequestField::kPv},
       {&request::kPd, move.pd_mm, RequestField::kPd},
@@ -427,6 +492,7 @@ inline Status encode_request(const compensation::MoveRequest& move,
   }
   auto words = part_words<kRequestParts>(request::kPart, request::kSequence, move.sequence);
   if (put_values(items, words, bad) != Status::kOk) return Status::kInvalidInput;
+  put_raw(words[0], request::kWantInterval, want_interval ? 1 : 0);
   store_frames(words, base_id + kRequestOffset, out);
   return Status::kOk;
 }
@@ -436,6 +502,7 @@ struct RequestCheck {
   RejectReason reason = RejectReason::kNone;  ///< kNone when `move` was written
   RequestField field = RequestField::kNone;   ///< the offending field
   std::uint8_t part = 0;                      ///< the part it is in
+  bool want_interval = false;                 ///< WantInterval (version 2): answer with part 3 too
 };
 
 /// Decodes the three payload words (part 0, 1, 2; already checked for part index, sequence and
@@ -492,7 +559,9 @@ inline RequestCheck decode_request(const std::array<std::uint64_t, kRequestParts
   move.y_mm = v[7];
   move.z_mm = v[8];
   move.direction = {v[9] / norm, v[10] / norm, v[11] / norm};
-  return {};
+  RequestCheck check;
+  check.want_interval = get_raw(words[0], request::kWantInterval) != 0;
+  return check;
 }
 
 // ---- Response ---------------------------------------------------------------------------------
@@ -528,10 +597,57 @@ inline Status encode_response(const compensation::Correction& c,
   return Status::kOk;
 }
 
+/// Encodes part 3 of the response to a request with WantInterval (version 2): c.u95_um and
+/// whether the model has a calibration (kFlagNoUncertainty in c.flags: IntervalFlags bit 0 and
+/// every U95 sent as 0, "unknown"). A U95 that does not fit (≥ 81.89 µm, inf included) is sent
+/// as raw 4095 with IntervalFlags bit 1 (saturated): beyond that width the controller only
+/// needs to know not to trust the point. Returns kOk, or kInvalidInput with `*bad` (if given)
+/// naming the first U95 that is negative or NaN (never produced by a compensator), or for a
+/// sequence > 63; `out` is then unspecified. RT-safe.
+inline Status encode_interval(const compensation::Correction& c,
+                              std::uint32_t base_id,
+                              Frame& out,
+                              ResponseField* bad = nullptr) noexcept {
+  if (c.sequence > kSequenceMask) return Status::kInvalidInput;
+  std::uint64_t w = 0;
+  put_raw(w, response::kPart, kIntervalPart);
+  put_raw(w, response::kSequence, c.sequence);
+  std::uint8_t flags = 0;
+  if ((c.flags & compensation::kFlagNoUncertainty) != 0) {
+    flags = response::kIntervalNoUncertainty;  // the U95 fields stay 0
+  } else {
+    for (std::size_t k = 0; k < response::kU95.size(); ++k) {
+      const SignalSpec& s = response::kU95[k];
+      const double u = c.u95_um[k];
+      if (!(u >= 0.0)) {  // negative or NaN
+        if (bad != nullptr) {
+          *bad = static_cast<ResponseField>(static_cast<std::uint8_t>(ResponseField::kU95Mpe) + k);
+        }
+        return Status::kInvalidInput;
+      }
+      const double q = (u - s.offset) / s.factor;
+      std::int64_t raw = s.raw_max();  // saturated: "at least (raw_max − ½)·factor"
+      if (q < static_cast<double>(s.raw_max()) - 0.5) {
+        raw = std::llround(q);
+      } else {
+        flags = static_cast<std::uint8_t>(flags | response::kIntervalSaturated);
+      }
+      put_raw(w, s, raw);
+    }
+  }
+  put_raw(w, response::kIntervalFlags, flags);
+  out = frame_of(w, base_id + kResponseOffset);
+  return Status::kOk;
+}
+
 /// A decoded response (what a controller gets).
 struct DecodedResponse {
   compensation::Correction correction;  ///< model_id holds the low 32 bits only
   std::uint8_t axis = 0;
+  /// Part 3 was decoded (decode_interval): correction.u95_um, interval_flags and
+  /// kFlagNoUncertainty in correction.flags come from it.
+  bool has_interval = false;
+  std::uint8_t interval_flags = 0;  ///< IntervalFlags as received (kIntervalNoUncertainty, …)
 };
 
 /// Decodes three response frames (in part order 0, 1, 2, same sequence, DLC 8, id base + 1).
@@ -558,6 +674,32 @@ inline bool decode_response(const ResponseFrames& frames,
   c.correction_um[1] = to_physical(response::kCorrY, get_raw(w[1], response::kCorrY));
   c.correction_um[2] = to_physical(response::kCorrZ, get_raw(w[2], response::kCorrZ));
   c.model_id = static_cast<std::uint64_t>(get_raw(w[2], response::kModelId));
+  c.u95_um = {0.0, 0.0, 0.0, 0.0};
+  out.has_interval = false;
+  out.interval_flags = 0;
+  return true;
+}
+
+/// Decodes response part 3 (the interval) into `out`, after decode_response decoded parts 0–2
+/// of the same response: `f` must be part 3 with out.correction.sequence, DLC 8, id base + 1.
+/// Sets correction.u95_um (a saturated one reads 81.9 µm: "at least"), interval_flags,
+/// kFlagNoUncertainty in correction.flags when IntervalFlags bit 0 is set, and has_interval.
+/// Returns false (and leaves `out` alone) when `f` is not such a frame. RT-safe.
+inline bool decode_interval(const Frame& f, std::uint32_t base_id, DecodedResponse& out) noexcept {
+  if (f.id != base_id + kResponseOffset || f.dlc != kFrameDlc) return false;
+  const std::uint64_t w = load_word(f);
+  if (get_raw(w, response::kPart) != kIntervalPart) return false;
+  if (get_raw(w, response::kSequence) != static_cast<std::int64_t>(out.correction.sequence)) {
+    return false;
+  }
+  out.interval_flags = static_cast<std::uint8_t>(get_raw(w, response::kIntervalFlags));
+  for (std::size_t k = 0; k < response::kU95.size(); ++k) {
+    out.correction.u95_um[k] = to_physical(response::kU95[k], get_raw(w, response::kU95[k]));
+  }
+  if ((out.interval_flags & response::kIntervalNoUncertainty) != 0) {
+    out.correction.flags |= compensation::kFlagNoUncertainty;
+  }
+  out.has_interval = true;
   return true;
 }
 
@@ -608,6 +750,8 @@ struct HeartbeatInfo {
   std::uint16_t rejected = 0;
   std::uint8_t model_mask = 0;               ///< bit a: axis a has a model
   std::array<std::uint64_t, 4> model_ids{};  ///< model id of each axis (0 = none)
+  /// ProtocolVersion: kProtocolVersion when encoded; decoded, 0 from a version-1 server.
+  std::uint8_t protocol_version = kProtocolVersion;
 };
 
 /// Page `page` (0..4) of heartbeat `h`. RT-safe.
@@ -622,6 +766,7 @@ constexpr Frame encode_heartbeat(const HeartbeatInfo& h,
     put_raw(w, heartbeat::kAnswered, h.answered);
     put_raw(w, heartbeat::kRejected, h.rejected);
     put_raw(w, heartbeat::kModelMask, h.model_mask & 0xF);
+    put_raw(w, heartbeat::kVersion, h.protocol_version & 0xF);
   } else if (page <= 4) {
     const std::size_t axis = page - 1u;
     put_raw(w,
@@ -643,6 +788,7 @@ constexpr int decode_heartbeat(const Frame& f, std::uint32_t base_id, HeartbeatI
     out.answered = static_cast<std::uint16_t>(get_raw(w, heartbeat::kAnswered));
     out.rejected = static_cast<std::uint16_t>(get_raw(w, heartbeat::kRejected));
     out.model_mask = static_cast<std::uint8_t>(get_raw(w, heartbeat::kModelMask));
+    out.protocol_version = static_cast<std::uint8_t>(get_raw(w, heartbeat::kVersion));
   } else if (page <= 4) {
     const auto axis = static_cast<std::size_t>(page - 1);
     out.model_ids[axis] = static_cast<std::uint64_t>(get_raw(w, heartbeat::kModelIds[axis]));

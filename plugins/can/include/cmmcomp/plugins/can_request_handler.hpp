@@ -7,7 +7,8 @@
 /// it; part k (1, 2) must follow part k−1 with the same sequence within the part timeout. Every
 /// frame that breaks a rule is answered with a reject frame naming the rule; a request is
 /// answered only from the three parts of that one request, so a response never carries stale
-/// data.
+/// data. A request with WantInterval (protocol version 2) gets the interval (part 3) after the
+/// three parts of version 1, from the same compensator call.
 #pragma once
 
 #include <array>
@@ -26,7 +27,8 @@ namespace cmmcomp::plugins {
 struct CanCounters {
   std::uint64_t frames_in = 0;  ///< request frames received (identifier base + 0)
   std::uint64_t requests = 0;   ///< requests complete (all three parts) and decoded
-  std::uint64_t answered = 0;   ///< responses sent (three frames each)
+  std::uint64_t answered = 0;   ///< responses sent (three frames each, four with the interval)
+  std::uint64_t intervals = 0;  ///< of those, responses with the interval (part 3, version 2)
   std::uint64_t rejected = 0;   ///< reject frames sent
   /// frames with wrong DLC, unknown part, stray sequence or part, reserved bits
   std::uint64_t malformed = 0;
@@ -39,9 +41,12 @@ struct CanCounters {
   std::uint64_t ignored = 0;       ///< frames with other identifiers (0 while the filter works)
 };
 
-/// The frames one call produces: at most two rejects, or one reject and three response frames.
+/// The frames one call produces: at most two rejects (a timeout, then the frame's own), or the
+/// three or four frames of one response (an expired request cannot be answered, so a response
+/// never follows a reject in one call).
 struct CanFrameBatch {
   static constexpr std::size_t kCapacity = 4;
+  static_assert(kCapacity >= can::kResponseParts + 1, "a response with its interval part");
   std::array<can::Frame, kCapacity> frames{};
   std::size_t size = 0;
 
@@ -139,6 +144,7 @@ class CanRequestHandler {
     c.frames_in = counters_.frames_in.load(std::memory_order_relaxed);
     c.requests = counters_.requests.load(std::memory_order_relaxed);
     c.answered = counters_.answered.load(std::memory_order_relaxed);
+    c.intervals = counters_.intervals.load(std::memory_order_relaxed);
     c.rejected = counters_.rejected.load(std::memory_order_relaxed);
     c.malformed = counters_.malformed.load(std::memory_order_relaxed);
     c.timeouts = counters_.timeouts.load(std::memory_order_relaxed);
@@ -175,9 +181,9 @@ class CanRequestHandler {
 
  private:
   struct AtomicCounters {
-    std::atomic<std::uint64_t> frames_in{0}, requests{0}, answered{0}, rejected{0}, malformed{0},
-        timeouts{0}, incomplete{0}, out_of_range{0}, refused{0}, heartbeats{0}, send_errors{0},
-        ignored{0};
+    std::atomic<std::uint64_t> frames_in{0}, requests{0}, answered{0}, intervals{0}, rejected{0},
+        malformed{0}, timeouts{0}, incomplete{0}, out_of_range{0}, refused{0}, heartbeats{0},
+        send_errors{0}, ignored{0};
   };
 
   // One writer thread: a load and a store are enough, and cheaper than a locked add.
@@ -247,8 +253,10 @@ class CanRequestHandler {
       return;
     }
     can::ResponseFrames frames;
+    can::Frame interval;
     can::ResponseField bad = can::ResponseField::kNone;
-    if (can::encode_response(c, move.axis, base_id_, frames, &bad) != Status::kOk) {
+    if (can::encode_response(c, move.axis, base_id_, frames, &bad) != Status::kOk ||
+        (check.want_interval && can::encode_interval(c, base_id_, interval, &bad) != Status::kOk)) {
       bump(counters_.out_of_range);
       reject(can::RejectReason::kResultOutOfRange,
              sequence_,
@@ -259,6 +267,10 @@ class CanRequestHandler {
       return;
     }
     for (const can::Frame& f : frames) out.push(f);
+    if (check.want_interval) {
+      out.push(interval);
+      bump(counters_.intervals);
+    }
     bump(counters_.answered);
   }
 
