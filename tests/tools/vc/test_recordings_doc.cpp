@@ -78,9 +78,9 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
   EXPECT_EQ(r.sequence, 1u);
   EXPECT_NEAR(r.rae_um, -4.780, 5e-4);
   EXPECT_NEAR(r.correction_um[0], 4.780, 5e-4);
-  EXPECT_EQ(r.model_id, 0x5fb1ca218e0b80beull);
+  EXPECT_EQ(r.model_id, 0xd700e2a70fc9dc38ull);
   EXPECT_EQ(r.interval_flags, compensation::kFlagOk);
-  EXPECT_NEAR(r.u95_um[0], 2.734, 5e-4);
+  EXPECT_NEAR(r.u95_um[0], 2.735, 5e-4);
   EXPECT_NEAR(r.u95_um[3], 0.680, 5e-4);
 }
 
@@ -114,11 +114,11 @@ TEST(RecordingsDoc, CandumpExampleHasTheDocumentedFormAndDecodes) {
   EXPECT_NEAR(d.correction.mpe_um, 21.59, 1e-9);
   EXPECT_NEAR(d.correction.rae_um, -4.78, 1e-9);
   EXPECT_NEAR(d.correction.correction_um[0], 4.78, 1e-9);
-  EXPECT_EQ(d.correction.model_id, 0x8E0B80BEu);
+  EXPECT_EQ(d.correction.model_id, 0x0FC9DC38u);
   EXPECT_EQ(d.interval_flags, 0);
   EXPECT_NEAR(d.correction.u95_um[0], 2.74, 1e-9);
-  EXPECT_NEAR(d.correction.u95_um[1], 2.16, 1e-9);
-  EXPECT_NEAR(d.correction.u95_um[2], 1.30, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[1], 2.12, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[2], 1.32, 1e-9);
   EXPECT_NEAR(d.correction.u95_um[3], 0.68, 1e-9);
 }
 
