@@ -107,6 +107,7 @@ void BM_BeforeApproachWithU95(benchmark::State& state) {
   interval.coverage = 0.95;
   interval.half_width = {2.7, 2.2, 1.3, 0.7};
   interval.extrapolation_gain = {0.4, 1.9, 0.0, 0.2};
+  interval.corner_gain = {1.1, 2.5, 1.6, 2.4};
   cm::MoveCompensator comp;
   for (int axis = 0; axis < cm::kMaxAxes; ++axis) {
     if (comp.publish(axis, model, interval, 1u) != cmmcomp::Status::kOk) {

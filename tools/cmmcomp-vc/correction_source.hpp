@@ -25,8 +25,9 @@ struct Answer {
   double rae_um = 0;        ///< predicted RAE [µm]
   std::array<double, 3> correction_um{0, 0, 0};  ///< +RAE·d [µm]
   std::uint64_t model_id = 0;                    ///< as the protocol carries it (CAN: low 32 bits)
-  /// The 95 % interval's half-widths of MPE, RPE, MAE, RAE [µm] and every flag (Modbus protocol
-  /// version 2); 0 and 0 where the protocol does not carry them (CAN).
+  /// The 95 % interval's half-widths of MPE, RPE, MAE, RAE [µm] and every flag, as protocol
+  /// version 2 of Modbus (float32) and of CAN (response part 3: 0.02 µm steps, 81.9 µm meaning
+  /// "at least that") carry them.
   std::array<double, 4> u95_um{0, 0, 0, 0};
   std::uint32_t interval_flags = 0;
   std::string note;  ///< why it is not usable, empty when usable
