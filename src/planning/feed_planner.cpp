@@ -212,8 +212,8 @@ PlanResult FeedPlanner::grid_search(Mode mode, int n, std::vector<FeedSetting>* 
   PlanResult r;
   r.mode = mode;
   r.best_point_bound_um = std::numeric_limits<double>::infinity();
-  // The fastest feasible grid points, each the best of its own (PV, AV) column, as the local
-  // search's starts: distinct starts cover separate feasible pockets.
+  // The 16 fastest feasible grid points, as the local search's starts (they may all lie in one
+  // pocket; a pocket that holds no grid point is not found: docs/planner.md).
   std::vector<std::pair<SettingCheck, FeedSetting>> starts;
   for (int a = 0; a < n; ++a) {
     for (int b = 0; b < n; ++b) {
@@ -291,7 +291,8 @@ PlanResult FeedPlanner::plan(Mode mode) const {
     SettingCheck here = check(start, mode);
     ++r.evaluations;
     double h = 0.5 / (problem_.grid_points - 1);  // share of each range
-    // At most 60 halvings of h, and each accepted move strictly lowers the time: bounded.
+    // Each accepted move strictly lowers the time and each refusal halves h (from 0.5/(N − 1) of
+    // the range to the tolerance: 9 halvings at the defaults); the iteration cap bounds the rest.
     for (int iteration = 0; iteration < 10000 && h >= problem_.tolerance; ++iteration) {
       SettingCheck best_poll = here;
       std::array<double, 4> best_x = x;

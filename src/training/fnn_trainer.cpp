@@ -427,9 +427,10 @@ class Trainer {
       }
     }
     // Corner gain: the least-squares line |r| = a + b·κ, gain b/a (0 when the residuals do not
-    // grow towards the corners, or a <= 0). Then the locally weighted conformal score
-    // |r| / (1 + gain·κ): its quantile is the half-width, with the same coverage guarantee as
-    // the plain one whatever the gain (the weight depends on the input only).
+    // grow towards the corners). Then the locally weighted conformal score
+    // |r| / (1 + gain·κ): its quantile is the half-width. The weight depends on the input only,
+    // so the plain interval's coverage argument holds for a fixed gain; fitted on the same
+    // residuals it holds approximately (docs/uncertainty.md).
     double mean_k = 0.0;
     for (const double k : corner) mean_k += k;
     mean_k /= static_cast<double>(corner.size());
@@ -442,7 +443,10 @@ class Trainer {
       mean_r /= static_cast<double>(r.size());
       for (std::size_t j = 0; j < r.size(); ++j) cov += (corner[j] - mean_k) * (r[j] - mean_r);
       const double b = var_k > 0.0 ? cov / var_k : 0.0;
-      const double a = mean_r - b * mean_k;
+      // The intercept is floored at a tenth of the mean residual: residuals near 0 at the
+      // centre and large at the corners (the strongest case) must give a large, finite gain,
+      // not a negative intercept and no gain at all.
+      const double a = std::max(mean_r - b * mean_k, 0.1 * mean_r);
       const double gain = a > 0.0 && b > 0.0 ? b / a : 0.0;
       std::vector<double> scores(r.size());
       for (std::size_t j = 0; j < r.size(); ++j) scores[j] = r[j] / (1.0 + gain * corner[j]);

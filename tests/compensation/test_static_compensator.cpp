@@ -83,6 +83,7 @@ TEST(StaticMoveCompensator, CarriesTheIntervalAsMoveCompensator) {
   cal.coverage = 0.95;
   cal.half_width = {1.0, 2.0, 3.0, 4.0};
   cal.extrapolation_gain = {0.5, 0.0, 1.0, 2.0};
+  cal.corner_gain = {1.5, 0.25, 0.0, 3.0};
   MoveCompensator hosted;
   for (int axis = 0; axis < kMaxAxes; ++axis) {
     ASSERT_EQ(fw.publish(axis, m4, cal, 60 + axis), Status::kOk);

@@ -416,7 +416,7 @@ TEST(ModelFile, Version1StillLoadsWithNoUncertainty) {
   EXPECT_REJECTED(resigned(doc.dump()), "unknown key 'uncertainty'");
 }
 
-TEST(ModelFile, Version2RequiresTheUncertaintyKey) {
+TEST(ModelFile, RequiresTheUncertaintyKey) {
   nlohmann::ordered_json doc = nlohmann::ordered_json::parse(format_model_json(golden_model()));
   doc.erase("uncertainty");
   EXPECT_REJECTED(resigned(doc.dump()), "missing key 'uncertainty'");

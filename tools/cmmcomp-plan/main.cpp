@@ -9,11 +9,13 @@
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/default_model.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/planning/feed_planner.hpp>
 #include <cstdio>
 #include <exception>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace {
@@ -39,6 +41,9 @@ struct Options {
   int grid = 11;
   double edge_margin = 0.0;
   int brute_force = 0;
+  double trained_pa = 200.0;
+  double trained_aa = 60.0;
+  std::string vc_settings;
   bool json = false;
 };
 
@@ -175,13 +180,41 @@ int run(const Options& opt) {
   p.dwell_s = machine.parameters.controller_dwell_s;
   p.smoothing_s = machine.parameters.controller_smoothing_s;
   p.grid_points = opt.grid;
+  p.pa_mm_s2_model = opt.trained_pa;
+  p.aa_mm_s2_model = opt.trained_aa;
   p.edge_margin = opt.edge_margin;
   const planning::FeedPlanner planner(model, p);
 
+  const bool corner_aware = std::visit(
+      [](const auto& f) {
+        for (double k : f.interval.corner_gain) {
+          if (k > 0) return true;
+        }
+        return false;
+      },
+      model);
+  if (!corner_aware && p.edge_margin == 0) {
+    std::fprintf(stderr,
+                 "cmmcomp-plan: note: this model's interval has no corner gain (a format-2 file, "
+                 "or a fit whose residuals did not grow towards the corners), so its U95 may be "
+                 "too narrow in the corners where the fastest settings lie; --edge-margin 0.2 "
+                 "keeps clear of them (docs/planner.md)\n");
+  }
   const planning::PlanResult compensated = planner.plan(planning::Mode::kCompensated);
   const planning::PlanResult raw = planner.plan(planning::Mode::kUncompensated);
   const bool both = compensated.found && raw.found;
   const double ratio = both ? raw.check.time_per_point_s / compensated.check.time_per_point_s : 0;
+
+  if (!opt.vc_settings.empty()) {
+    std::string text;
+    for (const auto* r : {&compensated, &raw}) {
+      if (r->found) {
+        text += std::string(planning::to_string(r->mode)) + "=" +
+                result_json(*r)["vc_setting"].get<std::string>() + "\n";
+      }
+    }
+    cmmcomp::io::write_file_atomically(opt.vc_settings, text);
+  }
 
   std::vector<planning::PlanResult> brute;
   if (opt.brute_force > 0) {
@@ -213,7 +246,7 @@ int run(const Options& opt) {
                           {"uncompensated", result_json(brute[1])}};
     }
     std::printf("%s\n", j.dump(2).c_str());
-    return 0;
+    return compensated.found ? 0 : 1;
   }
   std::string out = fmt::format(
       "cmmcomp-plan: model {} ({} inputs); point budget {:.3f} µm at 95 % ({}); "
@@ -280,14 +313,20 @@ int main(int argc, char** argv) {
                  opt.model,
                  "model file with an interval calibration (default: the "
                  "shipped 4-input model)");
-  app.add_option("--budget-um", opt.budget_um, "point error budget [µm] (instead of --mpe-e)");
-  app.add_option("--mpe-e", opt.mpe_e, "A,K of MPE_E = A + L/K µm")->capture_default_str();
-  app.add_option("--length", opt.length_mm, "length L of the MPE_E budget [mm]")
-      ->capture_default_str();
-  app.add_option("--share",
-                 opt.share,
-                 "share of MPE_E(L) one point may use (0.5: a bidirectional length's two touches)")
-      ->capture_default_str();
+  auto* budget =
+      app.add_option("--budget-um", opt.budget_um, "point error budget [µm] (instead of --mpe-e)")
+          ->check(CLI::PositiveNumber);
+  auto* mpe_e =
+      app.add_option("--mpe-e", opt.mpe_e, "A,K of MPE_E = A + L/K µm")->capture_default_str();
+  auto* length = app.add_option("--length", opt.length_mm, "length L of the MPE_E budget [mm]")
+                     ->capture_default_str();
+  auto* share =
+      app.add_option("--share",
+                     opt.share,
+                     "share of MPE_E(L) one point may use (0.5: a bidirectional length's two "
+                     "touches)")
+          ->capture_default_str();
+  budget->excludes(mpe_e)->excludes(length)->excludes(share);
   app.add_option("--mae-limit-um", opt.mae_limit_um, "bound on |MAE| + U95(MAE) [µm]")
       ->capture_default_str();
   app.add_option("--pv", opt.pv, "the machine's PV range LO:HI [mm/s]")->capture_default_str();
@@ -312,11 +351,25 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--grid", opt.grid, "points per input of the global grid")
       ->capture_default_str()
-      ->check(CLI::Range(2, 201));
+      ->check(CLI::Range(2, 41));
   app.add_option("--brute-force",
                  opt.brute_force,
-                 "also search an N^4 grid exhaustively and print its best (a check)")
-      ->check(CLI::Range(0, 201));
+                 "also search an N^4 grid exhaustively and print its best (a check; 0: none)")
+      ->check(CLI::Range(0, 41) & !CLI::IsMember({1}));
+  app.add_option("--trained-pa",
+                 opt.trained_pa,
+                 "PA the model was trained at [mm/s²] (the paper's 200): the planner keeps it")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--trained-aa",
+                 opt.trained_aa,
+                 "AA the model was trained at [mm/s²] (the paper's 60): the planner keeps it")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--vc-settings",
+                 opt.vc_settings,
+                 "also write the two settings as cmmcomp-vc --fast/--slow values to FILE: lines "
+                 "'compensated=…' and 'uncompensated=…' (a line only for a setting found)");
   app.add_flag("--json", opt.json, "print the result as JSON");
   try {
     app.parse(argc, argv);

@@ -10,8 +10,9 @@
 # the fastest uncompensated setting that meet it. The length test
 # (tools/cmmcomp-vc/run-length-test.sh) then probes fast at the compensated one and, as its
 # reference, at the uncompensated one; when no uncompensated setting in the model's domain meets
-# the budget it keeps the vc's fixed slow reference and says so. Writes DIR/plan.json,
-# DIR/plan.txt and the length test's files; prints both tables.
+# the budget it keeps the vc's fixed slow reference and says so. Writes DIR/plan.txt,
+# DIR/plan.json, DIR/plan-settings.txt and the length test's files; prints both tables. Give the
+# carriage positions with --y (to the planner and the vc both), not after --.
 set -euo pipefail
 plan_bin=""; agent_bin=""; vc_bin=""; out=""; models=(); plan_model=""; y="0,250,500"; margin=()
 while [ $# -gt 0 ]; do
@@ -39,20 +40,20 @@ mkdir -p "$out"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 
 plan_args=(--model "$plan_model" --y "$y" --mpe-e 1.9,300 --length 20 --share 0.5 "${margin[@]}")
-"$plan_bin" "${plan_args[@]}" | tee "$out/plan.txt"
+# The planner: its table and the settings as cmmcomp-vc takes them, then the same as JSON.
+status=0
+"$plan_bin" "${plan_args[@]}" --vc-settings "$out/plan-settings.txt" > "$out/plan.txt" || status=$?
+cat "$out/plan.txt"
+if [ $status -ne 0 ]; then
+  [ $status -eq 1 ] && why="found no compensated setting" || why="failed"
+  echo "planned-length-test: cmmcomp-plan $why (exit $status)" >&2
+  exit 1
+fi
 "$plan_bin" "${plan_args[@]}" --json > "$out/plan.json"
-# One value of the plan's JSON (a jq-free reader: the JSON is the planner's own, one key a line).
-field() { # field SECTION KEY
-  awk -v s="\"$1\": {" -v k="\"$2\":" '
-    index($0, s) { inside = 1; next }
-    inside && index($0, k) { sub(/^[^:]*: */, ""); sub(/,$/, ""); gsub(/"/, ""); print; exit }
-    inside && /^  }/ { exit }' "$out/plan.json"
-}
-[ "$(field compensated found)" = true ] ||
-  { echo "planned-length-test: no compensated setting meets the budget" >&2; exit 1; }
-vc_args=(--fast "$(field compensated vc_setting)")
-if [ "$(field uncompensated found)" = true ]; then
-  vc_args+=(--slow "$(field uncompensated vc_setting)")
+setting() { sed -n "s/^$1=//p" "$out/plan-settings.txt"; }  # setting compensated|uncompensated
+vc_args=(--fast "$(setting compensated)")
+if [ -n "$(setting uncompensated)" ]; then
+  vc_args+=(--slow "$(setting uncompensated)")
   echo "reference: the planner's fastest uncompensated setting"
 else
   echo "reference: the vc's fixed slow setting (no uncompensated setting in the model's domain" \
