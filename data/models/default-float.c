@@ -363,4 +363,8 @@ const cmmcomp_fw_model default_model_c = {
          6.838073f, -0.08209137f, -0.16688672f, 1.3879972f, 0.01489756f,  /* rule 80, output 2 */
          -4.287749f, -0.035110988f, 0.02691407f, -0.5735809f, 0.2500326f,  /* rule 80, output 3 */
     }};
+
+/* The model file's interval calibration (docs/uncertainty.md; coverage 0: none), for
+ * cmmcomp_fw_publish_with_interval. */
+const cmmcomp_fw_interval_calibration default_model_c_interval = {0.94999999999999996, {2.6627120967218945, 2.0597248372302897, 1.2164948994887748, 0.66657203750820193}, {0.4939915093949499, 2.0697213440712976, 0.0, 0.23330286886092305}, {0.10812128013422179, 0.11948250056061005, 0.3272386389545589, 0.083063701991665698}};
 /* clang-format on */

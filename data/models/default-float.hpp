@@ -18,6 +18,7 @@
 /// training: method "levenberg-marquardt", lambda 1.0, seed 1, trained_at 2026-12-04T17:49:36Z, tool "cmmcomp-train 0.1.0", data_file_sha256 "589d00e2c03a5dd93f89eb2601658d66dc1f7dc76702dbaae8dfbedc0711c9c3"
 #pragma once
 
+#include <cmmcomp/fuzzy/prediction_interval.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 
 /// Model id: first 16 hex digits of the checksum.
@@ -375,4 +376,8 @@ inline constexpr cmmcomp::fuzzy::TskModel<float, 4, 3, 4> default_model_f = {
          6.838073f, -0.08209137f, -0.16688672f, 1.3879972f, 0.01489756f,  // rule 80, output 2
          -4.287749f, -0.035110988f, 0.02691407f, -0.5735809f, 0.2500326f,  // rule 80, output 3
      }}}};
+
+/// The model file's interval calibration (docs/uncertainty.md; coverage 0: none): publish it with the
+/// network (StaticMoveCompensator::publish(axis, network, interval, id)).
+inline constexpr cmmcomp::fuzzy::IntervalCalibration<4> default_model_f_interval = {0.94999999999999996, {2.6627120967218945, 2.0597248372302897, 1.2164948994887748, 0.66657203750820193}, {0.4939915093949499, 2.0697213440712976, 0.0, 0.23330286886092305}, {0.10812128013422179, 0.11948250056061005, 0.3272386389545589, 0.083063701991665698}};
 // clang-format on

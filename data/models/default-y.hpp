@@ -19,6 +19,7 @@
 /// training: method "levenberg-marquardt", lambda 0.01, seed 1, trained_at 2026-12-04T17:49:37Z, tool "cmmcomp-train 0.1.0", data_file_sha256 "4732f5726ce1ac7aecd846ac03f944f7b50d14728ef9645b9d189edde32fd82f"
 #pragma once
 
+#include <cmmcomp/fuzzy/prediction_interval.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 
 /// Model id: first 16 hex digits of the checksum.
@@ -1025,4 +1026,8 @@ inline constexpr cmmcomp::fuzzy::TskModel<double, 5, 3, 4> default_y_model = {
          4.4074147570395636, -0.58293495796415506, -0.53086435609365445, 1.7746306877756943, -0.61354157676360566, 5.1103803996559982,  // rule 242, output 2
          -2.8088472107374169, 0.20946017432832414, 0.41437294480617543, -0.87436045954750652, 0.64540250950978151, -3.242917124424499,  // rule 242, output 3
      }}}};
+
+/// The model file's interval calibration (docs/uncertainty.md; coverage 0: none): publish it with the
+/// network (StaticMoveCompensator::publish(axis, network, interval, id)).
+inline constexpr cmmcomp::fuzzy::IntervalCalibration<4> default_y_model_interval = {0.94999999999999996, {2.4429919179249842, 1.128359111635121, 1.2758287903594254, 0.55130441234181082}, {1.1708090356558809, 2.1489725986116386, 0.31459899159514026, 1.1324939552193229}, {1.0716448786427453, 2.4965154885401186, 1.6446272959565809, 2.3732798346820201}};
 // clang-format on

@@ -9,6 +9,7 @@
 
 extern const cmmcomp_fw_model default_model_c;
 extern const uint64_t default_model_c_id;
+extern const cmmcomp_fw_interval_calibration default_model_c_interval;
 
 static cmmcomp_move_request move(uint32_t sequence, double pv, double pd, double av, double ad) {
   cmmcomp_move_request m = {0};
@@ -28,29 +29,45 @@ int main(void) {
   int failures = 0;
   uint32_t axis;
   for (axis = 0; axis < CMMCOMP_MAX_AXES; ++axis) {
-    const int code = cmmcomp_fw_publish(axis, &default_model_c, default_model_c_id);
+    const int code = cmmcomp_fw_publish_with_interval(
+        axis, &default_model_c, &default_model_c_interval, default_model_c_id);
     if (code != CMMCOMP_OK) {
       printf("c example: publish axis %" PRIu32 ": %d\n", axis, code);
       return 1;
     }
   }
   {
+    /* A corner of the training box, its centre, the opposite corner: the RAE interval is
+     * h (1 + k) at a corner (corner share 1) and h at the centre (docs/uncertainty.md). */
     const cmmcomp_move_request moves[3] = {
         move(1, 40, 40, 8, 5), move(2, 70, 60, 12, 10), move(3, 100, 80, 16, 15)};
+    const double corner_share[3] = {1.0, 0.0, 1.0};
     int i;
     for (i = 0; i < 3; ++i) {
       cmmcomp_correction c;
-      const int code = cmmcomp_fw_before_approach(&moves[i], &c);
+      cmmcomp_interval u;
+      const int code = cmmcomp_fw_before_approach_with_interval(&moves[i], &c, &u);
+      const double h = default_model_c_interval.half_width[3];
+      const double expected =
+          h * (1.0 + default_model_c_interval.corner_gain[3] * corner_share[i] +
+               default_model_c_interval.extrapolation_gain[3] * 0.0);
       if (code != CMMCOMP_OK) {
         printf("c example: move %" PRIu32 ": %d\n", moves[i].sequence, code);
         ++failures;
         continue;
       }
-      printf("c example: move %" PRIu32 ": RAE %.3f um, correction z %+.3f um, model %016llx\n",
+      printf("c example: move %" PRIu32
+             ": RAE %.3f um +- %.3f (U95), correction z %+.3f um, model %016llx\n",
              c.sequence,
              c.rae_um,
+             u.u95_um[3],
              c.correction_um[2],
              (unsigned long long)c.model_id);
+      if (u.u95_um[3] != expected || (u.flags & CMMCOMP_FLAG_NO_UNCERTAINTY) != 0u) {
+        printf("c example: move %" PRIu32 ": U95 of RAE %.17g, expected %.17g\n",
+               c.sequence, u.u95_um[3], expected);
+        ++failures;
+      }
     }
   }
   printf("c example: %s\n", failures == 0 ? "done" : "FAILED");

@@ -46,6 +46,17 @@ typedef struct cmmcomp_fw_model {
   CMMCOMP_FW_SCALAR params[CMMCOMP_FW_PARAMS]; /**< normalised-input parameters */
 } cmmcomp_fw_model;
 
+/** The calibration of a model's 95 % prediction interval (docs/uncertainty.md): for output o
+ * (MPE, RPE, MAE, RAE), U95 = half_width[o] * (1 + corner_gain[o] * kappa + extrapolation_gain[o]
+ * * d), kappa and d from the move's inputs. What the exported C source defines as
+ * NAME_interval. coverage 0 (every value 0): none, and the correction's interval is "unknown". */
+typedef struct cmmcomp_fw_interval_calibration {
+  double coverage;              /**< nominal coverage in (0, 1), or 0: none */
+  double half_width[4];         /**< in-domain half-width [um], finite, >= 0 */
+  double extrapolation_gain[4]; /**< growth per training range outside the box, >= 0 */
+  double corner_gain[4];        /**< growth at the box's corners, >= 0 */
+} cmmcomp_fw_interval_calibration;
+
 /** Outside-domain policy of every before_approach (fixed before the first publish):
  * 0 clamp (default), 1 extrapolate, 2 reject. Not RT-safe; returns CMMCOMP_E_ARGUMENT for any
  * other value or once a model has been published. */
@@ -59,9 +70,27 @@ int cmmcomp_fw_set_outside_domain(int policy);
  * error the old model keeps serving. */
 int cmmcomp_fw_publish(uint32_t axis, const cmmcomp_fw_model* model, uint64_t model_id);
 
+/** As cmmcomp_fw_publish, with the model's interval calibration (NAME_interval of the exported
+ * source), copied into the same buffer so that a hot swap changes both at once. Also
+ * CMMCOMP_E_ARGUMENT for a null `interval`, CMMCOMP_E_MODEL for a calibration that is not valid
+ * (a value negative or not finite, a coverage outside [0, 1), values without a coverage).
+ * cmmcomp_fw_publish publishes no calibration. */
+int cmmcomp_fw_publish_with_interval(uint32_t axis,
+                                     const cmmcomp_fw_model* model,
+                                     const cmmcomp_fw_interval_calibration* interval,
+                                     uint64_t model_id);
+
 /** As cmmcomp_before_approach (compensator.h), on the firmware compensator. RT-safe, callable
  * from an interrupt handler: no allocation, no lock, no syscall. */
 int cmmcomp_fw_before_approach(const cmmcomp_move_request* in, cmmcomp_correction* out);
+
+/** As cmmcomp_fw_before_approach, and writes the correction's 95 % interval into `interval`
+ * (u95_um and every flag; CMMCOMP_FLAG_NO_UNCERTAINTY when the model was published without a
+ * calibration), as cmmcomp_before_approach_with_interval does. RT-safe. CMMCOMP_E_ARGUMENT for
+ * a null pointer; `out` and `interval` are untouched on any error. */
+int cmmcomp_fw_before_approach_with_interval(const cmmcomp_move_request* in,
+                                             cmmcomp_correction* out,
+                                             cmmcomp_interval* interval);
 
 #ifdef __cplusplus
 } /* extern "C" */

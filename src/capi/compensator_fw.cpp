@@ -28,7 +28,38 @@ static_assert(CMMCOMP_FW_PARAMS == Model::kParamCount, "parameter count");
 static_assert(CMMCOMP_FW_RULES == Model::kRules, "rule count");
 static_assert(sizeof(cmmcomp::fuzzy::InputRange) == 2 * sizeof(double), "ranges are {lo, hi}");
 
+// cmmcomp_fw_interval_calibration is IntervalCalibration's layout spelled in C.
+using Calibration = cmmcomp::compensation::IntervalCalibration;
+static_assert(sizeof(cmmcomp_fw_interval_calibration) == sizeof(Calibration),
+              "cmmcomp_fw_interval_calibration is IntervalCalibration's layout");
+static_assert(sizeof(Calibration) == 13 * sizeof(double), "coverage and three arrays of 4");
+static_assert(offsetof(cmmcomp_fw_interval_calibration, half_width) ==
+                  offsetof(Calibration, half_width),
+              "interval layout");
+static_assert(offsetof(cmmcomp_fw_interval_calibration, extrapolation_gain) ==
+                  offsetof(Calibration, extrapolation_gain),
+              "interval layout");
+static_assert(offsetof(cmmcomp_fw_interval_calibration, corner_gain) ==
+                  offsetof(Calibration, corner_gain),
+              "interval layout");
+
 cmmcomp::compensation::StaticMoveCompensator<Model> g_compensator;
+
+Calibration to_calibration(const cmmcomp_fw_interval_calibration& c) noexcept {
+  Calibration out;
+  out.coverage = c.coverage;
+  for (std::size_t o = 0; o < 4; ++o) {
+    out.half_width[o] = c.half_width[o];
+    out.extrapolation_gain[o] = c.extrapolation_gain[o];
+    out.corner_gain[o] = c.corner_gain[o];
+  }
+  return out;
+}
+
+int publish_code(cmmcomp::Status s) noexcept {
+  if (s == cmmcomp::Status::kInvalidInput) return CMMCOMP_E_MODEL;
+  return static_cast<int>(s);
+}
 
 }  // namespace
 
@@ -43,10 +74,19 @@ int cmmcomp_fw_set_outside_domain(int policy) {
 
 int cmmcomp_fw_publish(uint32_t axis, const cmmcomp_fw_model* model, uint64_t model_id) {
   if (model == nullptr || axis >= CMMCOMP_MAX_AXES) return CMMCOMP_E_ARGUMENT;
-  const cmmcomp::Status s =
-      g_compensator.publish_bytes(static_cast<int>(axis), model, sizeof *model, model_id);
-  if (s == cmmcomp::Status::kInvalidInput) return CMMCOMP_E_MODEL;
-  return static_cast<int>(s);
+  return publish_code(
+      g_compensator.publish_bytes(static_cast<int>(axis), model, sizeof *model, model_id));
+}
+
+int cmmcomp_fw_publish_with_interval(uint32_t axis,
+                                     const cmmcomp_fw_model* model,
+                                     const cmmcomp_fw_interval_calibration* interval,
+                                     uint64_t model_id) {
+  if (model == nullptr || interval == nullptr || axis >= CMMCOMP_MAX_AXES) {
+    return CMMCOMP_E_ARGUMENT;
+  }
+  return publish_code(g_compensator.publish_bytes(
+      static_cast<int>(axis), model, sizeof *model, to_calibration(*interval), model_id));
 }
 
 int cmmcomp_fw_before_approach(const cmmcomp_move_request* in, cmmcomp_correction* out) {
@@ -56,6 +96,19 @@ int cmmcomp_fw_before_approach(const cmmcomp_move_request* in, cmmcomp_correctio
   const cmmcomp::Status s = g_compensator.before_approach(cmmcomp::capi::to_move_request(*in), r);
   if (!cmmcomp::ok(s)) return static_cast<int>(s);
   cmmcomp::capi::write_correction(r, *out);
+  return CMMCOMP_OK;
+}
+
+int cmmcomp_fw_before_approach_with_interval(const cmmcomp_move_request* in,
+                                             cmmcomp_correction* out,
+                                             cmmcomp_interval* interval) {
+  if (in == nullptr || out == nullptr || interval == nullptr) return CMMCOMP_E_ARGUMENT;
+  if (in->axis >= CMMCOMP_MAX_AXES) return CMMCOMP_E_INVALID_INPUT;
+  cmmcomp::compensation::Correction r;
+  const cmmcomp::Status s = g_compensator.before_approach(cmmcomp::capi::to_move_request(*in), r);
+  if (!cmmcomp::ok(s)) return static_cast<int>(s);
+  cmmcomp::capi::write_correction(r, *out);
+  cmmcomp::capi::write_interval(r, *interval);
   return CMMCOMP_OK;
 }
 

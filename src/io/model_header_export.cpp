@@ -44,6 +44,22 @@ bool is_identifier(const std::string& s) {
   });
 }
 
+/// The interval calibration's values of `data` as a brace list, in IntervalCalibration's (and
+/// cmmcomp_fw_interval_calibration's) member order: coverage, then half_width,
+/// extrapolation_gain and corner_gain, one entry per output; all 0 when the file has none.
+std::string interval_initialiser(const detail::ModelData& data) {
+  const auto list = [&](const std::vector<double>& v) {
+    std::string s = "{";
+    for (int o = 0; o < data.outputs; ++o) {
+      const double x = v.empty() ? 0.0 : v[static_cast<std::size_t>(o)];
+      s += (o == 0 ? "" : ", ") + double_literal(x);
+    }
+    return s + "}";
+  };
+  return "{" + double_literal(data.interval_coverage) + ", " + list(data.interval_half_width) +
+         ", " + list(data.interval_gain) + ", " + list(data.interval_corner_gain) + "}";
+}
+
 }  // namespace
 
 namespace detail {
@@ -136,6 +152,7 @@ std::string export_model_header(const ModelData& data,
       "/// training: method \"{}\", lambda {}, seed {}, trained_at {}, tool \"{}\", "
       "data_file_sha256 \"{}\"\n"
       "#pragma once\n\n"
+      "#include <cmmcomp/fuzzy/prediction_interval.hpp>\n"
       "#include <cmmcomp/fuzzy/tsk_evaluator.hpp>\n\n"
       "/// Model id: first 16 hex digits of the checksum.\n"
       "inline constexpr char {}_model_id[] = \"{}\";\n"
@@ -173,8 +190,16 @@ std::string export_model_header(const ModelData& data,
   } else {
     append_flat_block(h, data, double_literal);
   }
-  h += "     }}}};\n"
-       "// clang-format on\n";
+  h += "     }}}};\n\n";
+  fmt::format_to(out,
+                 "/// The model file's interval calibration (docs/uncertainty.md; coverage 0: "
+                 "none): publish it with the\n"
+                 "/// network (StaticMoveCompensator::publish(axis, network, interval, id)).\n"
+                 "inline constexpr cmmcomp::fuzzy::IntervalCalibration<{}> {}_interval = {};\n",
+                 data.outputs,
+                 symbol_name,
+                 interval_initialiser(data));
+  h += "// clang-format on\n";
   return h;
 }
 
@@ -238,8 +263,15 @@ std::string export_model_c_source(const ModelData& data,
   } else {
     append_flat_block(h, data, double_literal);
   }
-  h += "    }};\n"
-       "/* clang-format on */\n";
+  h += "    }};\n\n";
+  fmt::format_to(out,
+                 "/* The model file's interval calibration (docs/uncertainty.md; coverage 0: "
+                 "none), for\n"
+                 " * cmmcomp_fw_publish_with_interval. */\n"
+                 "const cmmcomp_fw_interval_calibration {}_interval = {};\n",
+                 symbol_name,
+                 interval_initialiser(data));
+  h += "/* clang-format on */\n";
   // The block's comments are C++ style: rewrite them for C99's sake of style consistency.
   std::string c;
   c.reserve(h.size());

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file The firmware C ABI (cmmcomp/compensator_fw.h): the shipped model exported as C source
 /// (data/models/default-float.c) answers exactly as the C++ StaticMoveCompensator serving the
-/// constexpr header converted to float; bad models and requests give codes and keep the old model.
+/// constexpr header converted to float, its interval included; bad models, calibrations and
+/// requests give codes and keep the old model.
 #include <cmmcomp/compensator_fw.h>
 #include <gtest/gtest.h>
 
@@ -17,6 +18,7 @@
 
 extern "C" const cmmcomp_fw_model default_model_c;
 extern "C" const uint64_t default_model_c_id;
+extern "C" const cmmcomp_fw_interval_calibration default_model_c_interval;
 
 namespace {
 
@@ -93,6 +95,66 @@ TEST(CompensatorFw, ServesTheExportedModelExactlyAsTheCppCompensator) {
   request.axis = 0;
   request.pv_mm_s = std::nan("");
   EXPECT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_E_INVALID_INPUT);
+
+  // The interval (docs/uncertainty.md). The exported calibration is the C++ header's, value for
+  // value; a model published without one answers "no uncertainty".
+  static_assert(sizeof(cmmcomp_fw_interval_calibration) == sizeof(default_model_interval), "");
+  EXPECT_EQ(std::memcmp(
+                &default_model_c_interval, &default_model_interval, sizeof default_model_interval),
+            0);
+  ASSERT_TRUE(default_model_interval.available());
+  cmmcomp_interval interval{};
+  request = random_request(rng);
+  request.axis = 0;
+  ASSERT_EQ(cmmcomp_fw_before_approach_with_interval(&request, &out, &interval), CMMCOMP_OK);
+  EXPECT_NE(interval.flags & CMMCOMP_FLAG_NO_UNCERTAINTY, 0u);
+  EXPECT_EQ(interval.u95_um[3], 0.0);
+  EXPECT_EQ(cmmcomp_fw_publish_with_interval(0, &default_model_c, nullptr, 1), CMMCOMP_E_ARGUMENT);
+  EXPECT_EQ(cmmcomp_fw_publish_with_interval(0, nullptr, &default_model_c_interval, 1),
+            CMMCOMP_E_ARGUMENT);
+  for (uint32_t axis = 0; axis < CMMCOMP_MAX_AXES; ++axis) {
+    ASSERT_EQ(cmmcomp_fw_publish_with_interval(
+                  axis, &default_model_c, &default_model_c_interval, default_model_c_id),
+              CMMCOMP_OK);
+    ASSERT_EQ(g_reference.publish(static_cast<int>(axis),
+                                  cmmcomp::fuzzy::convert_model<float>(default_model),
+                                  default_model_interval,
+                                  default_model_c_id),
+              cmmcomp::Status::kOk);
+  }
+  int grown = 0;
+  for (int k = 0; k < 2000; ++k) {
+    request = random_request(rng);
+    cmmcomp::compensation::Correction expected;
+    const cmmcomp::Status s =
+        g_reference.before_approach(cmmcomp::capi::to_move_request(request), expected);
+    const int code = cmmcomp_fw_before_approach_with_interval(&request, &out, &interval);
+    ASSERT_EQ(code, cmmcomp::ok(s) ? 0 : static_cast<int>(s)) << "move " << k;
+    if (code != 0) continue;
+    EXPECT_EQ(std::memcmp(interval.u95_um, expected.u95_um.data(), sizeof interval.u95_um), 0)
+        << "move " << k;
+    EXPECT_EQ(interval.flags, expected.flags);
+    EXPECT_EQ(interval.flags & CMMCOMP_FLAG_NO_UNCERTAINTY, 0u);
+    EXPECT_EQ(std::memcmp(&out.rae_um, &expected.rae_um, sizeof(double)), 0) << "move " << k;
+    grown += interval.u95_um[3] > default_model_interval.half_width[3] ? 1 : 0;
+  }
+  EXPECT_GT(grown, 1000) << "most random moves are off-centre or outside: U95 grows";
+  // A bad calibration is refused; the model and calibration published keep serving.
+  cmmcomp_fw_interval_calibration bad = default_model_c_interval;
+  bad.corner_gain[1] = -1.0;
+  EXPECT_EQ(cmmcomp_fw_publish_with_interval(2, &default_model_c, &bad, 97), CMMCOMP_E_MODEL);
+  bad = default_model_c_interval;
+  bad.half_width[3] = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(cmmcomp_fw_publish_with_interval(2, &default_model_c, &bad, 96), CMMCOMP_E_MODEL);
+  bad = default_model_c_interval;
+  bad.coverage = 0.0;  // values without a coverage
+  EXPECT_EQ(cmmcomp_fw_publish_with_interval(2, &default_model_c, &bad, 95), CMMCOMP_E_MODEL);
+  request = random_request(rng);
+  request.axis = 2;
+  ASSERT_EQ(cmmcomp_fw_before_approach_with_interval(&request, &out, &interval), CMMCOMP_OK);
+  EXPECT_EQ(out.model_id, default_model_c_id);
+  EXPECT_EQ(interval.flags & CMMCOMP_FLAG_NO_UNCERTAINTY, 0u);
+  EXPECT_EQ(cmmcomp_fw_before_approach_with_interval(&request, &out, nullptr), CMMCOMP_E_ARGUMENT);
 }
 
 }  // namespace

@@ -128,8 +128,20 @@ class StaticMoveCompensator {
                        std::size_t size,
                        std::uint64_t model_id = 0,
                        fuzzy::ModelProblem* problem = nullptr) noexcept {
+    return publish_bytes(axis, bytes, size, IntervalCalibration{}, model_id, problem);
+  }
+
+  /// The same, with the model's interval calibration (published with it into the same buffer).
+  /// kInvalidInput also when fuzzy::interval_is_valid(interval) is false.
+  Status publish_bytes(int axis,
+                       const void* bytes,
+                       std::size_t size,
+                       const IntervalCalibration& interval,
+                       std::uint64_t model_id = 0,
+                       fuzzy::ModelProblem* problem = nullptr) noexcept {
     static_assert(std::is_trivially_copyable_v<Model>, "a model is plain bytes");
-    if (axis < 0 || axis >= kAxes || bytes == nullptr || size != sizeof(Model)) {
+    if (axis < 0 || axis >= kAxes || bytes == nullptr || size != sizeof(Model) ||
+        !fuzzy::interval_is_valid(interval)) {
       return Status::kInvalidInput;
     }
     Axis& a = axes_[static_cast<std::size_t>(axis)];
@@ -140,7 +152,7 @@ class StaticMoveCompensator {
     const fuzzy::ModelProblem found = fuzzy::find_problem(b.slot.model);
     if (problem != nullptr) *problem = found;
     if (found) return Status::kInvalidInput;
-    b.interval = IntervalCalibration{};  // the C ABI's model bytes carry no calibration
+    b.interval = interval;
     b.model_id = model_id;
     published_ = true;
     a.current.store(next + 1, std::memory_order_release);

@@ -13,6 +13,7 @@
 /// training: method "ceres-levenberg-marquardt", lambda 9.9999999999999995e-07, seed 20190601, trained_at 2024-05-01T12:00:00Z, tool "cmmcomp-train 0.1.0 (test)", data_file_sha256 "dc9a2a4e757bed28472a5f2a717d24b72e1f001292216d5addd5a97a0f455ef3"
 #pragma once
 
+#include <cmmcomp/fuzzy/prediction_interval.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 
 /// Model id: first 16 hex digits of the checksum.
@@ -53,4 +54,8 @@ inline constexpr cmmcomp::fuzzy::TskModel<double, 2, 3, 1> golden_2x3x1_model = 
          0.10000000000000001, 3.2000000000000002, -4.7000000000000002,  // rule 7, output 0
          -3.8999999999999999, -0.80000000000000004, 2.2999999999999998,  // rule 8, output 0
      }}}};
+
+/// The model file's interval calibration (docs/uncertainty.md; coverage 0: none): publish it with the
+/// network (StaticMoveCompensator::publish(axis, network, interval, id)).
+inline constexpr cmmcomp::fuzzy::IntervalCalibration<1> golden_2x3x1_model_interval = {0.0, {0.0}, {0.0}, {0.0}};
 // clang-format on
