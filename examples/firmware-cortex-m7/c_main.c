@@ -48,9 +48,8 @@ int main(void) {
       cmmcomp_interval u;
       const int code = cmmcomp_fw_before_approach_with_interval(&moves[i], &c, &u);
       const double h = default_model_c_interval.half_width[3];
-      const double expected =
-          h * (1.0 + default_model_c_interval.corner_gain[3] * corner_share[i] +
-               default_model_c_interval.extrapolation_gain[3] * 0.0);
+      const double expected = h * (1.0 + default_model_c_interval.corner_gain[3] * corner_share[i] +
+                                   default_model_c_interval.extrapolation_gain[3] * 0.0);
       if (code != CMMCOMP_OK) {
         printf("c example: move %" PRIu32 ": %d\n", moves[i].sequence, code);
         ++failures;
@@ -65,7 +64,9 @@ int main(void) {
              (unsigned long long)c.model_id);
       if (u.u95_um[3] != expected || (u.flags & CMMCOMP_FLAG_NO_UNCERTAINTY) != 0u) {
         printf("c example: move %" PRIu32 ": U95 of RAE %.17g, expected %.17g\n",
-               c.sequence, u.u95_um[3], expected);
+               c.sequence,
+               u.u95_um[3],
+               expected);
         ++failures;
       }
     }
