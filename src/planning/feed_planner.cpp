@@ -7,7 +7,9 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <cmmcomp/planning/feed_planner.hpp>
+#include <cstdio>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <variant>
@@ -16,6 +18,13 @@ namespace cmmcomp::planning {
 namespace {
 
 bool positive_finite(double v) { return std::isfinite(v) && v > 0.0; }
+
+/// A length or position in mm as a person writes it: 250, 12.5.
+std::string mm(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
 
 void require_interval(const Interval& i, const char* what) {
   if (!(std::isfinite(i.lo) && std::isfinite(i.hi) && i.lo >= 0.0 && i.lo <= i.hi)) {
@@ -78,12 +87,26 @@ const char* to_string(Mode mode) {
 }
 
 FeedPlanner::FeedPlanner(const io::CompensationModelFile& model, PlanProblem problem)
-    : problem_(std::move(problem)) {
-  const bool calibrated = std::visit([](const auto& f) { return f.interval.available(); }, model);
-  if (!calibrated) {
-    throw ConfigError(
-        "planner: the model has no interval calibration (a format-1 model file); retrain it with "
-        "cmmcomp-train to get U95, which every bound of the planner needs");
+    : FeedPlanner(std::vector<ModelAtY>{ModelAtY{0.0, model}}, std::move(problem), false) {}
+
+FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem problem)
+    : FeedPlanner(models, std::move(problem), true) {}
+
+FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem problem, bool per_y)
+    : problem_(std::move(problem)), per_y_(per_y) {
+  if (models.empty()) throw ConfigError("planner: no model");
+  // "the model" or "the model for Y 500 mm", in every message about one model.
+  const auto which = [&](const ModelAtY& m) {
+    return per_y_ ? "the model for Y " + mm(m.y_mm) + " mm" : std::string("the model");
+  };
+  for (const ModelAtY& m : models) {
+    const bool calibrated =
+        std::visit([](const auto& f) { return f.interval.available(); }, m.model);
+    if (!calibrated) {
+      throw ConfigError("planner: " + which(m) +
+                        " has no interval calibration (a format-1 model file); retrain it with "
+                        "cmmcomp-train to get U95, which every bound of the planner needs");
+    }
   }
   if (!positive_finite(problem_.budget_um)) {
     throw ConfigError("planner: the budget must be a positive number of µm");
@@ -131,26 +154,73 @@ FeedPlanner::FeedPlanner(const io::CompensationModelFile& model, PlanProblem pro
   if (!(problem_.tolerance > 0.0 && problem_.tolerance < 0.5)) {
     throw ConfigError("planner: the tolerance must be in (0, 0.5)");
   }
-  pv_ = intersect(model, "pv_mm_s", "PV", problem_.pv_mm_s, problem_.edge_margin);
-  pd_ = intersect(model, "pd_mm", "PD", problem_.pd_mm, problem_.edge_margin);
-  av_ = intersect(model, "av_mm_s", "AV", problem_.av_mm_s, problem_.edge_margin);
-  ad_ = intersect(model, "ad_mm", "AD", problem_.ad_mm, problem_.edge_margin);
-  Interval y_range{};
-  if (model_range(model, "y_mm", y_range)) {
+
+  // Which model judges each Y of the program.
+  constexpr double kSameY = 1e-6;  // mm
+  if (per_y_) {
+    std::string given;
+    for (std::size_t a = 0; a < models.size(); ++a) {
+      if (!std::isfinite(models[a].y_mm)) {
+        throw ConfigError("planner: a model's carriage position Y is not finite");
+      }
+      for (std::size_t b = 0; b < a; ++b) {
+        if (std::fabs(models[a].y_mm - models[b].y_mm) <= kSameY) {
+          throw ConfigError("planner: two models are given for Y " + mm(models[a].y_mm) + " mm");
+        }
+      }
+      given += (given.empty() ? "" : ", ") + mm(models[a].y_mm);
+    }
     for (double y : problem_.y_mm) {
-      if (y < y_range.lo || y > y_range.hi) {
-        throw ConfigError("planner: Y " + std::to_string(y) +
-                          " mm is outside the model's training range [" +
-                          std::to_string(y_range.lo) + ", " + std::to_string(y_range.hi) + "]");
+      std::size_t found = models.size();
+      for (std::size_t a = 0; a < models.size(); ++a) {
+        if (std::fabs(models[a].y_mm - y) <= kSameY) found = a;
+      }
+      if (found == models.size()) {
+        throw ConfigError("planner: no model for Y " + mm(y) + " mm (models for Y " + given +
+                          " mm)");
+      }
+      compensator_of_y_.push_back(found);
+    }
+  } else {
+    compensator_of_y_.assign(problem_.y_mm.size(), 0);
+  }
+
+  // The search box: the limits within every model's training ranges.
+  pv_ = problem_.pv_mm_s;
+  pd_ = problem_.pd_mm;
+  av_ = problem_.av_mm_s;
+  ad_ = problem_.ad_mm;
+  for (const ModelAtY& m : models) {
+    const std::string w = per_y_ ? " (" + which(m) + ")" : std::string();
+    pv_ = intersect(m.model, "pv_mm_s", ("PV" + w).c_str(), pv_, problem_.edge_margin);
+    pd_ = intersect(m.model, "pd_mm", ("PD" + w).c_str(), pd_, problem_.edge_margin);
+    av_ = intersect(m.model, "av_mm_s", ("AV" + w).c_str(), av_, problem_.edge_margin);
+    ad_ = intersect(m.model, "ad_mm", ("AD" + w).c_str(), ad_, problem_.edge_margin);
+  }
+  for (std::size_t a = 0; a < models.size(); ++a) {
+    Interval y_range{};
+    if (!model_range(models[a].model, "y_mm", y_range)) continue;
+    for (std::size_t k = 0; k < problem_.y_mm.size(); ++k) {
+      const double y = problem_.y_mm[k];
+      if (compensator_of_y_[k] == a && (y < y_range.lo || y > y_range.hi)) {
+        throw ConfigError("planner: Y " + mm(y) + " mm is outside the model's training range [" +
+                          mm(y_range.lo) + ", " + mm(y_range.hi) + "]" +
+                          (per_y_ ? " (" + which(models[a]) + ")" : std::string()));
       }
     }
   }
-  std::string why;
-  if (!ok(io::publish(compensator_, 0, model, &why))) {
-    throw ConfigError("planner: the model cannot be served: " + why);
+  for (const ModelAtY& m : models) {
+    auto compensator = std::make_unique<compensation::MoveCompensator>();
+    std::string why;
+    if (!ok(io::publish(*compensator, 0, m.model, &why))) {
+      throw ConfigError("planner: " + which(m) + " cannot be served: " + why);
+    }
+    compensators_.push_back(std::move(compensator));
   }
-  model_id_ = io::model_id(model);
-  inputs_ = io::model_inputs(model);
+  for (std::size_t k = 0; k < problem_.y_mm.size(); ++k) {
+    model_ids_.push_back(io::model_id(models[compensator_of_y_[k]].model));
+    model_inputs_.push_back(io::model_inputs(models[compensator_of_y_[k]].model));
+  }
 }
 
 FeedSetting FeedPlanner::at(double pv, double pd, double av, double ad) const {
@@ -174,7 +244,8 @@ SettingCheck FeedPlanner::check(const FeedSetting& s, Mode mode) const {
   c.time_per_point_s = time_per_point_s(s);
   c.feasible = std::isfinite(c.time_per_point_s);
   c.point_bound_um = -1.0;
-  for (double y : problem_.y_mm) {
+  for (std::size_t k = 0; k < problem_.y_mm.size(); ++k) {
+    const double y = problem_.y_mm[k];
     compensation::MoveRequest m;
     m.pv_mm_s = s.pv_mm_s;
     m.pa_mm_s2 = s.pa_mm_s2;
@@ -187,7 +258,7 @@ SettingCheck FeedPlanner::check(const FeedSetting& s, Mode mode) const {
     m.direction = {1.0, 0.0, 0.0};
     compensation::Correction r;
     // Outside the training box the prediction is not trusted: such a setting is infeasible.
-    if (compensator_.before_approach(m, r) != Status::kOk) {
+    if (compensators_[compensator_of_y_[k]]->before_approach(m, r) != Status::kOk) {
       c.feasible = false;
       continue;
     }

@@ -7,6 +7,7 @@
 #include <cmmcomp/io/default_model.hpp>
 #include <cmmcomp/planning/feed_planner.hpp>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -14,6 +15,7 @@ using cmmcomp::io::CompensationModelFile;
 using cmmcomp::planning::FeedPlanner;
 using cmmcomp::planning::FeedSetting;
 using cmmcomp::planning::Mode;
+using cmmcomp::planning::ModelAtY;
 using cmmcomp::planning::PlanProblem;
 
 CompensationModelFile shipped_model() {
@@ -242,6 +244,107 @@ TEST(FeedPlanner, BadProblemsAreClearErrors) {
   auto v1 = cmmcomp::io::default_model_file();
   v1.interval = {};
   expect_config_error(CompensationModelFile(v1), p, "no interval calibration");
+}
+
+// Models per Y: each Y of the program is judged by its own model.
+
+/// The shipped model with every half-width of its interval multiplied by `factor`: a model
+/// that is less sure, as one trained where the machine is less repeatable would be.
+CompensationModelFile widened_model(double factor) {
+  auto f = cmmcomp::io::default_model_file();
+  for (double& h : f.interval.half_width) h *= factor;
+  return CompensationModelFile(f);
+}
+
+TEST(FeedPlannerModelsPerY, TheSameModelAtEveryYPlansAsOneModel) {
+  PlanProblem p = cutting_budget(shipped_model(), small_domain(1), Mode::kUncompensated);
+  p.y_mm = {0, 250, 500};
+  const FeedPlanner one(shipped_model(), p);
+  const FeedPlanner per_y(
+      std::vector<ModelAtY>{{0, shipped_model()}, {250, shipped_model()}, {500, shipped_model()}},
+      p);
+  EXPECT_FALSE(one.models_per_y());
+  EXPECT_TRUE(per_y.models_per_y());
+  ASSERT_EQ(per_y.model_ids().size(), 3u);
+  EXPECT_EQ(per_y.model_ids()[2], one.model_ids()[2]);
+  for (const Mode mode : {Mode::kCompensated, Mode::kUncompensated}) {
+    const auto a = one.plan(mode);
+    const auto b = per_y.plan(mode);
+    ASSERT_EQ(a.found, b.found);
+    EXPECT_EQ(text(a.setting), text(b.setting));
+    EXPECT_DOUBLE_EQ(a.check.time_per_point_s, b.check.time_per_point_s);
+    EXPECT_DOUBLE_EQ(a.check.point_bound_um, b.check.point_bound_um);
+  }
+}
+
+TEST(FeedPlannerModelsPerY, EachYIsJudgedByItsOwnModel) {
+  // Y 0 and 250 by the shipped model, Y 500 by one whose U95 is 1.5 times as wide. A 4-input
+  // model's prediction does not depend on Y, so uncompensated (|RAE| + U95) the wide model
+  // binds at every setting: the per-Y plan is the wide model's plan, and its worst Y is 500.
+  const auto wide = widened_model(1.5);
+  PlanProblem p = small_domain(1);
+  p.y_mm = {0, 250, 500};
+  p = cutting_budget(wide, p, Mode::kUncompensated);
+  const FeedPlanner per_y(
+      std::vector<ModelAtY>{{500, wide}, {0, shipped_model()}, {250, shipped_model()}}, p);
+  const FeedPlanner wide_everywhere(wide, p);
+  const FeedPlanner shipped_everywhere(shipped_model(), p);
+  const auto planned = per_y.plan(Mode::kUncompensated);
+  const auto reference = wide_everywhere.plan(Mode::kUncompensated);
+  ASSERT_TRUE(planned.found);
+  ASSERT_TRUE(reference.found);
+  EXPECT_EQ(text(planned.setting), text(reference.setting));
+  EXPECT_DOUBLE_EQ(planned.check.point_bound_um, reference.check.point_bound_um);
+  EXPECT_EQ(planned.check.worst_y_mm, 500);
+  // The shipped model alone allows a faster setting: the wide model at Y 500 held the plan back.
+  EXPECT_LT(shipped_everywhere.plan(Mode::kUncompensated).check.time_per_point_s,
+            planned.check.time_per_point_s);
+  expect_at_least_as_good_as_brute_force(per_y, Mode::kUncompensated);
+}
+
+TEST(FeedPlannerModelsPerY, TheSearchBoxLiesInsideEveryModelsRanges) {
+  auto narrow = cmmcomp::io::default_model_file();
+  narrow.model.ranges[0].hi = 80;  // PV 40–80 instead of 40–100
+  PlanProblem p;
+  p.budget_um = 1;
+  p.y_mm = {0, 500};
+  const FeedPlanner planner(
+      std::vector<ModelAtY>{{0, shipped_model()}, {500, CompensationModelFile(narrow)}}, p);
+  EXPECT_EQ(planner.pv_mm_s().lo, 40);
+  EXPECT_EQ(planner.pv_mm_s().hi, 80);
+  EXPECT_EQ(planner.ad_mm().hi, 15);
+}
+
+void expect_per_y_error(const std::vector<ModelAtY>& models,
+                        const PlanProblem& p,
+                        const std::string& words) {
+  try {
+    const FeedPlanner planner(models, p);
+    ADD_FAILURE() << "no error; expected one with '" << words << "'";
+  } catch (const cmmcomp::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(FeedPlannerModelsPerY, BadModelSetsAreClearErrors) {
+  PlanProblem p = small_domain(1.0);
+  p.y_mm = {0, 250};
+  expect_per_y_error({}, p, "no model");
+  expect_per_y_error({{0, shipped_model()}}, p, "no model for Y 250 mm (models for Y 0 mm)");
+  expect_per_y_error(
+      {{0, shipped_model()}, {250, shipped_model()}, {250, shipped_model()}}, p, "two models");
+  expect_per_y_error({{0, shipped_model()}, {std::nan(""), shipped_model()}}, p, "Y is not finite");
+  auto v1 = cmmcomp::io::default_model_file();
+  v1.interval = {};
+  expect_per_y_error({{0, shipped_model()}, {250, CompensationModelFile(v1)}},
+                     p,
+                     "the model for Y 250 mm has no interval calibration");
+  // A 5-input model serves only Y inside its own training range.
+  p.y_mm = {0, 600};
+  expect_per_y_error({{0, shipped_model()}, {600, shipped_y_model()}},
+                     p,
+                     "Y 600 mm is outside the model's training range [0, 500] (the model for "
+                     "Y 600 mm)");
 }
 
 }  // namespace

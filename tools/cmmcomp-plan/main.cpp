@@ -24,6 +24,7 @@ namespace planning = cmmcomp::planning;
 
 struct Options {
   std::string model;
+  std::vector<std::string> model_at;  // Y=PATH, a model per Y
   double budget_um = 0.0;
   std::string mpe_e = "1.9,300";
   double length_mm = 20.0;
@@ -144,7 +145,19 @@ std::string row(const planning::PlanResult& r) {
       r.check.mae_bound_um);
 }
 
-int run(const Options& opt) {
+/// "Y=PATH" of --model-at → the model and its Y.
+planning::ModelAtY parse_model_at(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq + 1 == text.size()) {
+    throw cmmcomp::ConfigError("--model-at: '" + text + "' is not Y=PATH");
+  }
+  return planning::ModelAtY{parse_number(text.substr(0, eq), "--model-at"),
+                            cmmcomp::io::load_compensation_model(text.substr(eq + 1))};
+}
+
+int run(const Options& opt, bool y_given) {
+  std::vector<planning::ModelAtY> per_y;
+  for (const std::string& m : opt.model_at) per_y.push_back(parse_model_at(m));
   const cmmcomp::io::CompensationModelFile model =
       opt.model.empty() ? cmmcomp::io::CompensationModelFile(cmmcomp::io::default_model_file())
                         : cmmcomp::io::load_compensation_model(opt.model);
@@ -176,6 +189,10 @@ int run(const Options& opt) {
   p.pd_mm = parse_interval(opt.pd, "--pd");
   p.ad_mm = parse_interval(opt.ad, "--ad");
   p.y_mm = parse_list(opt.y, "--y");
+  if (!per_y.empty() && !y_given) {  // the program's Y: where the models are
+    p.y_mm.clear();
+    for (const auto& m : per_y) p.y_mm.push_back(m.y_mm);
+  }
   p.z_mm = opt.z_mm;
   p.dwell_s = machine.parameters.controller_dwell_s;
   p.smoothing_s = machine.parameters.controller_smoothing_s;
@@ -183,16 +200,21 @@ int run(const Options& opt) {
   p.pa_mm_s2_model = opt.trained_pa;
   p.aa_mm_s2_model = opt.trained_aa;
   p.edge_margin = opt.edge_margin;
-  const planning::FeedPlanner planner(model, p);
+  const planning::FeedPlanner planner =
+      per_y.empty() ? planning::FeedPlanner(model, p) : planning::FeedPlanner(per_y, p);
 
-  const bool corner_aware = std::visit(
-      [](const auto& f) {
-        for (double k : f.interval.corner_gain) {
-          if (k > 0) return true;
-        }
-        return false;
-      },
-      model);
+  const auto has_corner_gain = [](const cmmcomp::io::CompensationModelFile& file) {
+    return std::visit(
+        [](const auto& f) {
+          for (double k : f.interval.corner_gain) {
+            if (k > 0) return true;
+          }
+          return false;
+        },
+        file);
+  };
+  bool corner_aware = per_y.empty() ? has_corner_gain(model) : true;
+  for (const auto& m : per_y) corner_aware = corner_aware && has_corner_gain(m.model);
   if (!corner_aware && p.edge_margin == 0) {
     std::fprintf(stderr,
                  "cmmcomp-plan: note: this model's interval has no corner gain (a format-2 file, "
@@ -223,8 +245,16 @@ int run(const Options& opt) {
   }
 
   if (opt.json) {
-    nlohmann::json j = {{"model_id", planner.model_id()},
-                        {"model_inputs", planner.model_inputs()},
+    nlohmann::json models = nlohmann::json::array();
+    for (std::size_t k = 0; k < p.y_mm.size(); ++k) {
+      models.push_back({{"y_mm", p.y_mm[k]},
+                        {"model_id", planner.model_ids()[k]},
+                        {"model_inputs", planner.model_inputs()[k]}});
+    }
+    nlohmann::json j = {{"model_id", planner.model_ids().front()},
+                        {"model_inputs", planner.model_inputs().front()},
+                        {"models_per_y", planner.models_per_y()},
+                        {"models", models},
                         {"budget_um", p.budget_um},
                         {"budget_source", budget_source},
                         {"mae_limit_um", p.mae_limit_um},
@@ -248,11 +278,24 @@ int run(const Options& opt) {
     std::printf("%s\n", j.dump(2).c_str());
     return compensated.found ? 0 : 1;
   }
+  std::string models;
+  if (planner.models_per_y()) {
+    models = "models per Y:";
+    for (std::size_t k = 0; k < p.y_mm.size(); ++k) {
+      models += fmt::format("{} Y {:g} mm {} ({} inputs)",
+                            k == 0 ? "" : ",",
+                            p.y_mm[k],
+                            planner.model_ids()[k],
+                            planner.model_inputs()[k]);
+    }
+  } else {
+    models = fmt::format(
+        "model {} ({} inputs)", planner.model_ids().front(), planner.model_inputs().front());
+  }
   std::string out = fmt::format(
-      "cmmcomp-plan: model {} ({} inputs); point budget {:.3f} µm at 95 % ({}); "
+      "cmmcomp-plan: {}; point budget {:.3f} µm at 95 % ({}); "
       "|MAE| + U95 <= {} µm\n",
-      planner.model_id(),
-      planner.model_inputs(),
+      models,
       p.budget_um,
       budget_source,
       p.mae_limit_um);
@@ -309,10 +352,15 @@ int main(int argc, char** argv) {
       "cmmcomp-plan: the fastest probing setting whose point error meets a budget at 95 %, with "
       "the model's correction and without it (docs/planner.md)."};
   Options opt;
-  app.add_option("--model",
-                 opt.model,
-                 "model file with an interval calibration (default: the "
-                 "shipped 4-input model)");
+  auto* one_model = app.add_option("--model",
+                                   opt.model,
+                                   "model file with an interval calibration (default: the "
+                                   "shipped 4-input model)");
+  app.add_option("--model-at",
+                 opt.model_at,
+                 "Y=PATH: a model per carriage position (repeat it: one trained at each Y); the "
+                 "setting is judged at each Y by its model, and --y defaults to these Y")
+      ->excludes(one_model);
   auto* budget =
       app.add_option("--budget-um", opt.budget_um, "point error budget [µm] (instead of --mpe-e)")
           ->check(CLI::PositiveNumber);
@@ -337,8 +385,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--ad", opt.ad, "AD the feature allows LO:HI [mm] (LO: its minimum)")
       ->capture_default_str();
-  app.add_option("--y", opt.y, "carriage positions the setting must hold at [mm]")
-      ->capture_default_str();
+  auto* y_option = app.add_option("--y", opt.y, "carriage positions the setting must hold at [mm]")
+                       ->capture_default_str();
   app.add_option("--z", opt.z_mm, "ram position [mm]")->capture_default_str();
   app.add_option("--machine",
                  opt.machine,
@@ -377,7 +425,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    return run(opt);
+    return run(opt, y_option->count() > 0);
   } catch (const cmmcomp::ConfigError& e) {
     std::fprintf(stderr, "cmmcomp-plan: %s\n", e.what());
     return 2;

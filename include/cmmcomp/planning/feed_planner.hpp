@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cmmcomp/io/compensation_model_file.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,14 @@ struct PlanProblem {
   double tolerance = 1e-4;
 };
 
+/// A model and the carriage position Y it serves: with one model trained at each Y of the
+/// program (the paper's Table 2 positions, say), the planner judges a setting at each Y by that
+/// Y's model.
+struct ModelAtY {
+  double y_mm = 0.0;  ///< the carriage position [mm]; a Y of the program
+  io::CompensationModelFile model;
+};
+
 /// With or without the model's correction.
 enum class Mode { kCompensated, kUncompensated };
 
@@ -96,13 +105,19 @@ struct PlanResult {
   FeedSetting best_point_setting;
 };
 
-/// Plans settings for one model (see the file comment).
+/// Plans settings for one model, or for a model per Y (see the file comment).
 class FeedPlanner {
  public:
-  /// Throws ConfigError when the model has no interval calibration (a format-1 file), when a
-  /// limit or the budget is not a positive finite value, when the model's PA/AA lie outside the
-  /// machine's, or when a limit does not overlap the model's training range.
+  /// One model for every Y of the program. Throws ConfigError when the model has no interval
+  /// calibration (a format-1 file), when a limit or the budget is not a positive finite value,
+  /// when the model's PA/AA lie outside the machine's, or when a limit does not overlap the
+  /// model's training range.
   FeedPlanner(const io::CompensationModelFile& model, PlanProblem problem);
+  /// A model per Y: at each Y of `problem.y_mm` the setting is judged by the model given for
+  /// that Y (to 1e-6 mm), and the search box lies inside every model's training ranges. Throws
+  /// ConfigError as above for each model, and when a Y of the program has no model, when two
+  /// models are given for one Y, or when a model's Y is not finite.
+  FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem problem);
 
   /// The search box: the problem's limits within the model's ranges.
   Interval pv_mm_s() const { return pv_; }
@@ -121,19 +136,27 @@ class FeedPlanner {
   /// planner is tested against.
   PlanResult brute_force(Mode mode, int points_per_input) const;
 
-  /// Identifiers of the model (first 16 hex digits of its checksum) and of its input set.
-  const std::string& model_id() const { return model_id_; }
-  int model_inputs() const { return inputs_; }
+  /// Identifier (first 16 hex digits of its checksum) and input count of the model that judges
+  /// each Y of the program, in the order of `problem().y_mm`.
+  const std::vector<std::string>& model_ids() const { return model_ids_; }
+  const std::vector<int>& model_inputs() const { return model_inputs_; }
+  /// Whether the planner was given a model per Y.
+  bool models_per_y() const { return per_y_; }
 
  private:
+  FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem problem, bool per_y);
   FeedSetting at(double pv, double pd, double av, double ad) const;
   PlanResult grid_search(Mode mode, int n, std::vector<FeedSetting>* best_feasible) const;
 
   PlanProblem problem_;
-  compensation::MoveCompensator compensator_;
+  bool per_y_ = false;
+  /// One compensator per model (not copyable, hence the pointers), and which one judges each Y
+  /// of the program.
+  std::vector<std::unique_ptr<compensation::MoveCompensator>> compensators_;
+  std::vector<std::size_t> compensator_of_y_;
   Interval pv_, pd_, av_, ad_;
-  std::string model_id_;
-  int inputs_ = 0;
+  std::vector<std::string> model_ids_;
+  std::vector<int> model_inputs_;
 };
 
 /// "compensated" / "uncompensated".
