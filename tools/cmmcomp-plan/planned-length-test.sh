@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # planned-length-test.sh --plan-bin PLAN --agent-bin AGENT --vc-bin VC --out DIR
-#                        --model LABEL=PATH [--model LABEL=PATH]... [--plan-model PATH]
-#                        [--y LIST] [--edge-margin M] [-- MORE VC ARGS]
+#                        --model LABEL[@Y]=PATH [--model LABEL[@Y]=PATH]... [--plan-model PATH |
+#                        --plan-model-at Y=PATH...] [--y LIST] [--edge-margin M] [-- MORE VC ARGS]
 #
 # The length test at the planner's settings (docs/planner.md): cmmcomp-plan finds, for the model
-# --plan-model (default: the last --model) at the program's Y positions and the budget
+# --plan-model (default: the last --model), or a model per Y (--plan-model-at, repeated; the vc
+# then takes one agent per Y with --model LABEL@Y=PATH), at the program's Y positions and the budget
 # 0.5 × MPE_E(20 mm) (MPE_E = 1.9 + L/300 µm, the vc's), the fastest compensated setting and
 # the fastest uncompensated setting that meet it. The length test
 # (tools/cmmcomp-vc/run-length-test.sh) then probes fast at the compensated one and, as its
@@ -14,7 +15,8 @@
 # DIR/plan.json, DIR/plan-settings.txt and the length test's files; prints both tables. Give the
 # carriage positions with --y (to the planner and the vc both), not after --.
 set -euo pipefail
-plan_bin=""; agent_bin=""; vc_bin=""; out=""; models=(); plan_model=""; y="0,250,500"; margin=()
+plan_bin=""; agent_bin=""; vc_bin=""; out=""; models=(); plan_model=""; plan_at=(); y="0,250,500"
+margin=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --plan-bin) plan_bin="$2"; shift 2 ;;
@@ -23,10 +25,11 @@ while [ $# -gt 0 ]; do
     --out) out="$2"; shift 2 ;;
     --model) models+=("$2"); shift 2 ;;
     --plan-model) plan_model="$2"; shift 2 ;;
+    --plan-model-at) plan_at+=(--model-at "$2"); shift 2 ;;
     --y) y="$2"; shift 2 ;;
     --edge-margin) margin=(--edge-margin "$2"); shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '3,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '3,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "planned-length-test: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -35,11 +38,16 @@ if [ -z "$plan_bin" ] || [ -z "$agent_bin" ] || [ -z "$vc_bin" ] || [ -z "$out" 
   echo "planned-length-test: --plan-bin, --agent-bin, --vc-bin, --out and --model are required" >&2
   exit 2
 fi
-[ -n "$plan_model" ] || plan_model="${models[-1]#*=}"
+if [ -n "$plan_model" ] && [ ${#plan_at[@]} -gt 0 ]; then
+  echo "planned-length-test: give --plan-model or --plan-model-at, not both" >&2
+  exit 2
+fi
+[ -n "$plan_model" ] || [ ${#plan_at[@]} -gt 0 ] || plan_model="${models[-1]#*=}"
+[ ${#plan_at[@]} -gt 0 ] || plan_at=(--model "$plan_model")
 mkdir -p "$out"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 
-plan_args=(--model "$plan_model" --y "$y" --mpe-e 1.9,300 --length 20 --share 0.5 "${margin[@]}")
+plan_args=("${plan_at[@]}" --y "$y" --mpe-e 1.9,300 --length 20 --share 0.5 "${margin[@]}")
 # The planner: its table and the settings as cmmcomp-vc takes them, then the same as JSON.
 status=0
 "$plan_bin" "${plan_args[@]}" --vc-settings "$out/plan-settings.txt" > "$out/plan.txt" || status=$?

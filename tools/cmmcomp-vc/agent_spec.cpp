@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
+#include <exception>
 #include <sstream>
+#include <string>
 
 #include "can_link.hpp"
 
@@ -13,12 +15,28 @@ namespace cmmcomp::vc {
 
 AgentSpec parse_agent_spec(const std::string& text) {
   const std::string forms = "--agent '" + text +
-                            "': expected LABEL=modbus:tcp:HOST:PORT or "
-                            "LABEL=can:IFACE[:BASE_ID]";
+                            "': expected LABEL[@Y]=modbus:tcp:HOST:PORT or "
+                            "LABEL[@Y]=can:IFACE[:BASE_ID]";
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) throw ConfigError(forms);
   AgentSpec s;
   s.label = text.substr(0, eq);
+  const auto at = s.label.find('@');
+  if (at != std::string::npos) {
+    const std::string y = s.label.substr(at + 1);
+    std::size_t used = 0;
+    try {
+      s.y_mm = std::stod(y, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (y.empty() || used != y.size() || !std::isfinite(s.y_mm)) {
+      throw ConfigError("--agent '" + text + "': the Y after '@' must be a number [mm]");
+    }
+    s.has_y = true;
+    s.label = s.label.substr(0, at);
+    if (s.label.empty()) throw ConfigError(forms);
+  }
   for (char c : s.label) {
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_')) {
       throw ConfigError("--agent label '" + s.label + "': letters, digits, '-' and '_' only");

@@ -9,9 +9,13 @@
 
 namespace cmmcomp::vc {
 
-/// One agent: LABEL=modbus:tcp:HOST:PORT or LABEL=can:IFACE[:BASE_ID].
+/// One agent: LABEL=modbus:tcp:HOST:PORT or LABEL=can:IFACE[:BASE_ID]; LABEL@Y=… makes it the
+/// agent of label LABEL for the points at carriage position Y only (a model per Y: several
+/// agents share the label, one per Y).
 struct AgentSpec {
   std::string label;
+  bool has_y = false;  ///< LABEL@Y: answers only the points at y_mm
+  double y_mm = 0.0;   ///< [mm]
   bool is_can = false;
   std::string endpoint;  ///< Modbus: "tcp:HOST:PORT"; CAN: the interface
   std::uint32_t can_base_id = plugins::can::kDefaultBaseId;

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file cmmcomp-vc: a virtual CMM controller that runs an ISO 10360-2 style length test at
 /// speed on the digital twin and asks cmmcomp-agent for each correction over Modbus TCP or CAN.
+#include <fmt/format.h>
+
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
@@ -14,6 +17,7 @@
 #include "can_link.hpp"
 #include "length_test.hpp"
 #include "modbus_link.hpp"
+#include "per_y_source.hpp"
 #include "report.hpp"
 #include "twin_probe.hpp"
 
@@ -68,8 +72,15 @@ int run(const Options& opt) {
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
     for (std::size_t k = 0; k < i; ++k) {
-      if (specs[i].label == specs[k].label) {
-        throw cmmcomp::ConfigError("two agents labelled '" + specs[i].label + "'");
+      if (specs[i].label != specs[k].label) continue;
+      // One label may name several agents only as a model per Y: LABEL@Y, every Y its own.
+      if (!specs[i].has_y || !specs[k].has_y) {
+        throw cmmcomp::ConfigError("two agents labelled '" + specs[i].label +
+                                   "' (several agents share a label only as LABEL@Y, one per Y)");
+      }
+      if (std::fabs(specs[i].y_mm - specs[k].y_mm) <= PerYSource::kSameY) {
+        throw cmmcomp::ConfigError("two agents labelled '" + specs[i].label + "' for Y " +
+                                   fmt::format("{:g}", specs[i].y_mm) + " mm");
       }
     }
   }
@@ -85,18 +96,49 @@ int run(const Options& opt) {
   program.dwell_s = machine.parameters.controller_dwell_s;
   program.smoothing_s = machine.parameters.controller_smoothing_s;
 
-  std::vector<std::unique_ptr<CorrectionSource>> links;
+  // Every Y of the program needs an agent of each per-Y label, checked before connecting.
   for (const AgentSpec& s : specs) {
-    const std::string record = opt.record.empty()
-                                   ? std::string()
-                                   : recording_path_for(opt.record, s.label, specs.size() > 1);
-    if (s.is_can) {
-      links.push_back(
-          std::make_unique<CanLink>(s.label, s.endpoint, s.can_base_id, opt.timeout_ms, record));
-    } else {
-      links.push_back(std::make_unique<ModbusLink>(
-          s.label, s.endpoint, opt.modbus_unit, opt.timeout_ms, record));
+    if (!s.has_y) continue;
+    for (double y : program.y_mm) {
+      bool served = false;
+      for (const AgentSpec& t : specs) {
+        served = served || (t.label == s.label && std::fabs(t.y_mm - y) <= PerYSource::kSameY);
+      }
+      if (!served) {
+        throw cmmcomp::ConfigError(
+            fmt::format("agent '{}' has no agent for Y {:g} mm of the program (give {}@{:g}=…)",
+                        s.label,
+                        y,
+                        s.label,
+                        y));
+      }
     }
+  }
+  const auto connect = [&](const AgentSpec& s) -> std::unique_ptr<CorrectionSource> {
+    // A per-Y agent records into its own file: the label and Y before the extension.
+    const std::string name = s.has_y ? fmt::format("{}-y{:g}", s.label, s.y_mm) : s.label;
+    const std::string record =
+        opt.record.empty() ? std::string() : recording_path_for(opt.record, name, specs.size() > 1);
+    if (s.is_can) {
+      return std::make_unique<CanLink>(s.label, s.endpoint, s.can_base_id, opt.timeout_ms, record);
+    }
+    return std::make_unique<ModbusLink>(
+        s.label, s.endpoint, opt.modbus_unit, opt.timeout_ms, record);
+  };
+  std::vector<std::unique_ptr<CorrectionSource>> links;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    if (!specs[i].has_y) {
+      links.push_back(connect(specs[i]));
+      continue;
+    }
+    bool first = true;  // the label's first per-Y agent gathers them all
+    for (std::size_t k = 0; k < i; ++k) first = first && specs[k].label != specs[i].label;
+    if (!first) continue;
+    std::vector<std::pair<double, std::unique_ptr<CorrectionSource>>> per_y;
+    for (const AgentSpec& s : specs) {
+      if (s.label == specs[i].label) per_y.emplace_back(s.y_mm, connect(s));
+    }
+    links.push_back(std::make_unique<PerYSource>(specs[i].label, std::move(per_y)));
   }
   std::vector<CorrectionSource*> agents;
   for (auto& l : links) agents.push_back(l.get());
@@ -134,7 +176,8 @@ int main(int argc, char** argv) {
   app.add_option("--agent",
                  opt.agents,
                  "LABEL=modbus:tcp:HOST:PORT or LABEL=can:IFACE[:BASE_ID]; repeat to compare "
-                 "agents (each answers every fast point)");
+                 "agents (each answers every fast point). LABEL@Y=…: the agent of LABEL for the "
+                 "points at Y only (a model per Y; give one for every Y of the program)");
   app.add_option("--lengths", opt.lengths, "nominal lengths [mm]")->capture_default_str();
   app.add_option("--y", opt.y, "carriage positions Y [mm]")->capture_default_str();
   app.add_option("--repeats", opt.repeats, "measurements per length and case")

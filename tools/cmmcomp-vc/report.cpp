@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <fstream>
@@ -24,17 +25,23 @@ std::string setting_text(const ProbeSetting& s) {
                      s.ad_mm);
 }
 
-/// The model id each agent answered with (first usable answer), 0 when none.
-std::vector<std::uint64_t> agent_model_ids(const LengthTestResult& r) {
-  std::vector<std::uint64_t> ids(r.agent_labels.size(), 0);
-  std::vector<bool> seen(ids.size(), false);
+/// The model ids each agent answered with (usable answers), in hex, in order of first answer:
+/// one id, or "a/b/c" for an agent with a model per Y; "0000000000000000" when none.
+std::vector<std::string> agent_model_ids(const LengthTestResult& r) {
+  std::vector<std::vector<std::uint64_t>> seen(r.agent_labels.size());
   for (const PointRecord& p : r.points) {
-    for (std::size_t g = 0; g < p.answers.size() && g < ids.size(); ++g) {
-      if (!seen[g] && p.answers[g].answer.usable) {
-        ids[g] = p.answers[g].answer.model_id;
-        seen[g] = true;
+    for (std::size_t g = 0; g < p.answers.size() && g < seen.size(); ++g) {
+      const Answer& a = p.answers[g].answer;
+      if (a.usable && std::find(seen[g].begin(), seen[g].end(), a.model_id) == seen[g].end()) {
+        seen[g].push_back(a.model_id);
       }
     }
+  }
+  std::vector<std::string> ids;
+  for (const auto& agent : seen) {
+    std::string text;
+    for (const std::uint64_t id : agent) text += (text.empty() ? "" : "/") + model_id_hex(id);
+    ids.push_back(text.empty() ? model_id_hex(0) : text);
   }
   return ids;
 }
@@ -89,8 +96,7 @@ std::string format_report(const LengthProgram& program, const LengthTestResult& 
                      r.slow_time_per_point_s);
   const auto ids = agent_model_ids(r);
   for (std::size_t g = 0; g < r.agent_labels.size(); ++g) {
-    out += fmt::format(
-        "  agent {}: {}, model {}\n", r.agent_labels[g], r.agent_places[g], model_id_hex(ids[g]));
+    out += fmt::format("  agent {}: {}, model {}\n", r.agent_labels[g], r.agent_places[g], ids[g]);
   }
   out +=
       "\nLength error E = measured − nominal [µm] (worst repeat); * = |E| > MPE_E = 1.9 + "
@@ -160,9 +166,8 @@ nlohmann::json report_json(const LengthProgram& program, const LengthTestResult&
   const auto ids = agent_model_ids(r);
   j["agents"] = json::array();
   for (std::size_t g = 0; g < r.agent_labels.size(); ++g) {
-    j["agents"].push_back({{"label", r.agent_labels[g]},
-                           {"where", r.agent_places[g]},
-                           {"model_id", model_id_hex(ids[g])}});
+    j["agents"].push_back(
+        {{"label", r.agent_labels[g]}, {"where", r.agent_places[g]}, {"model_id", ids[g]}});
   }
   j["cases"] = json::array();
   for (const CaseResult& c : r.cases) {

@@ -9,15 +9,18 @@
 
 #include <cmmcomp/exceptions.hpp>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "agent_spec.hpp"
 #include "correction_source.hpp"
 #include "line_forms.hpp"
 #include "modbus_relay.hpp"
+#include "per_y_source.hpp"
 #include "recording_format.hpp"
 
 namespace cmmcomp::vc {
@@ -183,6 +186,68 @@ TEST(AgentSpec, ParsesModbusAndCanForms) {
   EXPECT_THROW(parse_agent_spec("a=serial:/dev/tty"), ConfigError);
   EXPECT_THROW(parse_agent_spec("a b=can:vcan0"), ConfigError);
   EXPECT_THROW(parse_agent_spec("a=can:vcan0:0x7FF"), ConfigError);
+}
+
+TEST(AgentSpec, ParsesAModelPerY) {
+  const AgentSpec a = parse_agent_spec("per-y@250=modbus:tcp:127.0.0.1:1502");
+  EXPECT_EQ(a.label, "per-y");
+  EXPECT_TRUE(a.has_y);
+  EXPECT_EQ(a.y_mm, 250);
+  EXPECT_EQ(a.endpoint, "tcp:127.0.0.1:1502");
+  EXPECT_EQ(parse_agent_spec("x@-12.5=can:vcan0").y_mm, -12.5);
+  EXPECT_FALSE(parse_agent_spec("x=can:vcan0").has_y);
+  EXPECT_THROW(parse_agent_spec("x@=can:vcan0"), ConfigError);
+  EXPECT_THROW(parse_agent_spec("x@25mm=can:vcan0"), ConfigError);
+  EXPECT_THROW(parse_agent_spec("x@nan=can:vcan0"), ConfigError);
+  EXPECT_THROW(parse_agent_spec("@250=can:vcan0"), ConfigError);
+}
+
+/// An agent that answers with its own id, and counts what it was asked.
+class FixedSource final : public CorrectionSource {
+ public:
+  FixedSource(std::string where, std::uint64_t id) : where_(std::move(where)), id_(id) {}
+  Answer ask(const cmmcomp::compensation::MoveRequest& move) override {
+    asked_y_.push_back(move.y_mm);
+    Answer a;
+    a.usable = true;
+    a.model_id = id_;
+    return a;
+  }
+  const std::string& label() const noexcept override { return label_; }
+  const std::string& where() const noexcept override { return where_; }
+  std::vector<double> asked_y_;
+
+ private:
+  std::string label_ = "fixed";
+  std::string where_;
+  std::uint64_t id_;
+};
+
+TEST(PerYSource, AsksTheAgentOfEachMovesY) {
+  auto at0 = std::make_unique<FixedSource>("modbus a", 10);
+  auto at500 = std::make_unique<FixedSource>("modbus b", 50);
+  FixedSource* first = at0.get();
+  FixedSource* second = at500.get();
+  std::vector<std::pair<double, std::unique_ptr<CorrectionSource>>> agents;
+  agents.emplace_back(0.0, std::move(at0));
+  agents.emplace_back(500.0, std::move(at500));
+  cmmcomp::vc::PerYSource source("per-y", std::move(agents));
+  EXPECT_EQ(source.label(), "per-y");
+  EXPECT_EQ(source.where(), "Y 0: modbus a; Y 500: modbus b");
+  cmmcomp::compensation::MoveRequest m;
+  m.y_mm = 500;
+  EXPECT_EQ(source.ask(m).model_id, 50u);
+  m.y_mm = 0;
+  EXPECT_EQ(source.ask(m).model_id, 10u);
+  EXPECT_EQ(first->asked_y_, std::vector<double>{0.0});
+  EXPECT_EQ(second->asked_y_, std::vector<double>{500.0});
+  EXPECT_TRUE(source.serves(500.0000001));
+  EXPECT_FALSE(source.serves(250));
+  m.y_mm = 250;
+  const Answer refused = source.ask(m);
+  EXPECT_FALSE(refused.usable);
+  EXPECT_NE(refused.note.find("no agent of 'per-y' for Y 250 mm"), std::string::npos);
+  EXPECT_EQ(first->asked_y_.size() + second->asked_y_.size(), 2u);
 }
 
 TEST(AgentSpec, RecordingPathGetsTheLabelWhenSeveral) {
