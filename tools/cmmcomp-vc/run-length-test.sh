@@ -45,6 +45,9 @@ for spec in "${models[@]}"; do
   model_arg=()
   [ -z "$path" ] || model_arg=(--model "$path")
   for attempt in $(seq 0 19); do
+    # Empty the log first: the agent's own redirection truncates it only once the shell has
+    # forked, so a "listening on" left from an earlier run in DIR could be read as this agent's.
+    : >"$log"
     if [ -n "$can" ]; then
       base=$(printf '0x%03X' $(( 0x300 + 16 * n )))
       # 1 s between a request's parts, not the 50 ms default: a virtual bus in a UML guest on a
