@@ -202,15 +202,22 @@ TEST(FeedPlanner, TheEdgeMarginKeepsTheSearchAwayFromTheModelsEdges) {
   EXPECT_DOUBLE_EQ(planner.pd_mm().lo, 48);
 }
 
-void expect_config_error(const CompensationModelFile& model,
-                         const PlanProblem& p,
-                         const std::string& words) {
+/// Constructing a planner from `models` (one model, or a model per Y) and `p` throws a
+/// ConfigError whose message holds `words`.
+template <typename Models>
+void expect_planner_error(const Models& models, const PlanProblem& p, const std::string& words) {
   try {
-    const FeedPlanner planner(model, p);
+    const FeedPlanner planner(models, p);
     ADD_FAILURE() << "no error; expected one with '" << words << "'";
   } catch (const cmmcomp::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
   }
+}
+
+void expect_config_error(const CompensationModelFile& model,
+                         const PlanProblem& p,
+                         const std::string& words) {
+  expect_planner_error(model, p, words);
 }
 
 TEST(FeedPlanner, BadProblemsAreClearErrors) {
@@ -318,12 +325,7 @@ TEST(FeedPlannerModelsPerY, TheSearchBoxLiesInsideEveryModelsRanges) {
 void expect_per_y_error(const std::vector<ModelAtY>& models,
                         const PlanProblem& p,
                         const std::string& words) {
-  try {
-    const FeedPlanner planner(models, p);
-    ADD_FAILURE() << "no error; expected one with '" << words << "'";
-  } catch (const cmmcomp::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
-  }
+  expect_planner_error(models, p, words);
 }
 
 TEST(FeedPlannerModelsPerY, BadModelSetsAreClearErrors) {
