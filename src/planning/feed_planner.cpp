@@ -48,11 +48,14 @@ bool model_range(const io::CompensationModelFile& file, const char* column, Inte
       file);
 }
 
+/// `limit` is the problem's limit, or (`after_other_models`) that limit already narrowed to the
+/// ranges of the models before this one: the error says which, so a user knows what to widen.
 Interval intersect(const io::CompensationModelFile& file,
                    const char* column,
                    const char* label,
                    const Interval& limit,
-                   double edge_margin) {
+                   double edge_margin,
+                   bool after_other_models) {
   Interval model{};
   if (!model_range(file, column, model)) {
     throw ConfigError(std::string("planner: the model has no input ") + column);
@@ -61,11 +64,14 @@ Interval intersect(const io::CompensationModelFile& file,
   model = {model.lo + clear, model.hi - clear};
   const Interval box{std::max(limit.lo, model.lo), std::min(limit.hi, model.hi)};
   if (box.lo > box.hi) {
-    throw ConfigError(std::string("planner: ") + label + " limits [" + std::to_string(limit.lo) +
-                      ", " + std::to_string(limit.hi) + "] miss the model's training range [" +
-                      std::to_string(model.lo) + ", " + std::to_string(model.hi) + "]" +
-                      (edge_margin > 0 ? " (less the edge margin)" : std::string()) +
-                      ": the model cannot predict there");
+    throw ConfigError(
+        std::string("planner: ") + label +
+        (after_other_models ? " limits within the other models' ranges [" : " limits [") +
+        std::to_string(limit.lo) + ", " + std::to_string(limit.hi) +
+        "] miss the model's training range [" + std::to_string(model.lo) + ", " +
+        std::to_string(model.hi) + "]" +
+        (edge_margin > 0 ? " (less the edge margin)" : std::string()) +
+        ": the model cannot predict there");
   }
   return box;
 }
@@ -190,12 +196,14 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
   pd_ = problem_.pd_mm;
   av_ = problem_.av_mm_s;
   ad_ = problem_.ad_mm;
-  for (const ModelAtY& m : models) {
+  for (std::size_t a = 0; a < models.size(); ++a) {
+    const ModelAtY& m = models[a];
     const std::string w = per_y_ ? " (" + which(m) + ")" : std::string();
-    pv_ = intersect(m.model, "pv_mm_s", ("PV" + w).c_str(), pv_, problem_.edge_margin);
-    pd_ = intersect(m.model, "pd_mm", ("PD" + w).c_str(), pd_, problem_.edge_margin);
-    av_ = intersect(m.model, "av_mm_s", ("AV" + w).c_str(), av_, problem_.edge_margin);
-    ad_ = intersect(m.model, "ad_mm", ("AD" + w).c_str(), ad_, problem_.edge_margin);
+    const double margin = problem_.edge_margin;
+    pv_ = intersect(m.model, "pv_mm_s", ("PV" + w).c_str(), pv_, margin, a > 0);
+    pd_ = intersect(m.model, "pd_mm", ("PD" + w).c_str(), pd_, margin, a > 0);
+    av_ = intersect(m.model, "av_mm_s", ("AV" + w).c_str(), av_, margin, a > 0);
+    ad_ = intersect(m.model, "ad_mm", ("AD" + w).c_str(), ad_, margin, a > 0);
   }
   for (std::size_t a = 0; a < models.size(); ++a) {
     Interval y_range{};

@@ -320,6 +320,29 @@ TEST(FeedPlannerModelsPerY, TheSearchBoxLiesInsideEveryModelsRanges) {
   EXPECT_EQ(planner.pv_mm_s().lo, 40);
   EXPECT_EQ(planner.pv_mm_s().hi, 80);
   EXPECT_EQ(planner.ad_mm().hi, 15);
+  // The order of the models does not matter: the narrow one first gives the same box.
+  const FeedPlanner reversed(
+      std::vector<ModelAtY>{{0, CompensationModelFile(narrow)}, {500, shipped_model()}}, p);
+  EXPECT_EQ(reversed.pv_mm_s().lo, 40);
+  EXPECT_EQ(reversed.pv_mm_s().hi, 80);
+  EXPECT_EQ(reversed.ad_mm().hi, 15);
+}
+
+TEST(FeedPlannerModelsPerY, DisjointModelRangesNameTheOtherModels) {
+  // Two models whose PV ranges do not overlap: the second model's error says that the limit it
+  // missed was already narrowed by the first model, not the problem's own limit.
+  auto low = cmmcomp::io::default_model_file();
+  low.model.ranges[0].hi = 50;  // PV 40–50
+  auto high = cmmcomp::io::default_model_file();
+  high.model.ranges[0].lo = 60;  // PV 60–100
+  PlanProblem p;
+  p.budget_um = 1;
+  p.y_mm = {0, 500};
+  expect_planner_error(
+      std::vector<ModelAtY>{{0, CompensationModelFile(low)}, {500, CompensationModelFile(high)}},
+      p,
+      "PV (the model for Y 500 mm) limits within the other models' ranges [40.000000, 50.000000] "
+      "miss the model's training range [60.000000, 100.000000]");
 }
 
 void expect_per_y_error(const std::vector<ModelAtY>& models,

@@ -13,7 +13,9 @@
 # reference, at the uncompensated one; when no uncompensated setting in the model's domain meets
 # the budget it keeps the vc's fixed slow reference and says so. Writes DIR/plan.txt,
 # DIR/plan.json, DIR/plan-settings.txt and the length test's files; prints both tables. Give the
-# carriage positions with --y (to the planner and the vc both), not after --.
+# carriage positions with --y (to the planner and the vc both), not after --. --y defaults to
+# 0,250,500, the vc's program, also with --plan-model-at (unlike cmmcomp-plan alone, which then
+# takes the models' Ys): the planner must judge the Ys the vc probes, so each needs a model.
 set -euo pipefail
 plan_bin=""; agent_bin=""; vc_bin=""; out=""; models=(); plan_model=""; plan_at=(); y="0,250,500"
 margin=()

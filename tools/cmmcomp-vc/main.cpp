@@ -116,7 +116,7 @@ int run(const Options& opt) {
   }
   const auto connect = [&](const AgentSpec& s) -> std::unique_ptr<CorrectionSource> {
     // A per-Y agent records into its own file: the label and Y before the extension.
-    const std::string name = s.has_y ? fmt::format("{}-y{:g}", s.label, s.y_mm) : s.label;
+    const std::string name = s.has_y ? fmt::format("{}-y{}", s.label, s.y_mm) : s.label;
     const std::string record =
         opt.record.empty() ? std::string() : recording_path_for(opt.record, name, specs.size() > 1);
     if (s.is_can) {

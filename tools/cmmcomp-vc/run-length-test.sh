@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# run-length-test.sh --agent-bin AGENT --vc-bin VC --out DIR [--can IFACE] [--model LABEL=PATH]...
+# run-length-test.sh --agent-bin AGENT --vc-bin VC --out DIR [--can IFACE] [--model LABEL[@Y]=PATH]...
 #                    [-- VC ARGS]
 #
 # The length test at speed in one command: starts one cmmcomp-agent per --model (LABEL=PATH;
@@ -8,8 +8,9 @@
 # of them, and stops the agents. Modbus TCP on free loopback ports by default; with --can IFACE
 # (inside scripts/uml-run.sh) the agents share IFACE with base ids 0x300, 0x310, ... Writes into
 # DIR: length_error_y*.png (plots), length_test.txt (the table), length_test.json,
-# length_test_points.csv (every point) and length_test_session[.LABEL].mbtx (Modbus transcripts)
-# or .log (candump logs) (docs/recordings.md). Prints the table. Exit status: cmmcomp-vc's (2 when
+# length_test_points.csv (every point) and length_test_session[.LABEL[-yY]].mbtx (Modbus
+# transcripts; -yY for a per-Y agent, --model LABEL@Y=PATH) or .log (candump logs)
+# (docs/recordings.md). Prints the table. Exit status: cmmcomp-vc's (2 when
 # an agent does not start).
 set -euo pipefail
 agent_bin=""; vc_bin=""; out=""; models=(); can=""
