@@ -21,6 +21,10 @@ void LengthProgram::validate() const {
   if (!std::isfinite(x0_mm)) throw ConfigError("x0 must be finite");
   (void)time_per_point_s(fast, dwell_s, smoothing_s);
   (void)time_per_point_s(slow, dwell_s, smoothing_s);
+  if (qualify) {
+    qualification.validate();
+    (void)time_per_point_s(qualification.map_setting, dwell_s, smoothing_s);
+  }
 }
 
 compensation::MoveRequest request_for(const ProbeSetting& s, Face face, double y_mm) {
@@ -61,6 +65,11 @@ LengthTestResult run_length_test(const LengthProgram& program,
       time_per_point_s(program.fast, program.dwell_s, program.smoothing_s);
   result.slow_time_per_point_s =
       time_per_point_s(program.slow, program.dwell_s, program.smoothing_s);
+
+  if (program.qualify) {
+    result.qualification =
+        qualify(program.qualification, program.y_mm, {program.slow, program.fast}, machine);
+  }
 
   const std::size_t n_agents = agents.size();
   const std::size_t n_y = program.y_mm.size();
@@ -109,6 +118,11 @@ LengthTestResult run_length_test(const LengthProgram& program,
             }
             p.rae_um = machine.rae_um(*s, p.y_mm, p.index);
             p.scale_mm = scale_point_mm(p.true_mm, direction_of(p.face), p.rae_um);
+            p.qualified_mm = p.scale_mm;
+            if (result.qualification) {
+              p.qualified_mm = corrected_point_mm(
+                  p.scale_mm, result.qualification->removed_um(*s, p.y_mm) * direction_of(p.face));
+            }
             for (AppliedAnswer& aa : p.answers) {
               aa.corrected_mm = aa.answer.usable
                                     ? corrected_point_mm(p.scale_mm, aa.answer.correction_um[0])
@@ -120,7 +134,7 @@ LengthTestResult run_length_test(const LengthProgram& program,
           const PointRecord& b = pts[0];
           const PointRecord& a = pts[1];
           const bool first = rep == 0;
-          const double e = length_error_um(a.scale_mm, b.scale_mm, c.length_mm);
+          const double e = length_error_um(a.qualified_mm, b.qualified_mm, c.length_mm);
           if (fast) {
             keep_worst(c.fast_uncompensated_um, e, first);
             for (std::size_t g = 0; g < a.answers.size(); ++g) {

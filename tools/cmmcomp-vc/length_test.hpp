@@ -4,12 +4,14 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "correction_source.hpp"
 #include "length_geometry.hpp"
 #include "probe_setting.hpp"
+#include "qualification.hpp"
 #include "twin_probe.hpp"
 
 namespace cmmcomp::vc {
@@ -26,6 +28,10 @@ struct LengthProgram {
   /// they count in the time per point.
   double dwell_s = 0.0;
   double smoothing_s = 0.0;
+  /// Qualify the uncompensated columns (qualification.hpp): a static reversal map and the probe
+  /// qualified at the slow and at the fast setting. Off: the raw scale points.
+  bool qualify = false;
+  QualificationPlan qualification;
 
   /// Throws ConfigError when a list is empty, a length is not positive, repeats < 1, or a setting
   /// cannot be planned.
@@ -46,9 +52,12 @@ struct PointRecord {
   double y_mm = 0;
   int repeat = 0;  ///< 0-based
   Face face = Face::kA;
-  double true_mm = 0;                  ///< where the face is
-  double rae_um = 0;                   ///< the twin's RAE of this touch (with noise)
-  double scale_mm = 0;                 ///< what the scale reported
+  double true_mm = 0;   ///< where the face is
+  double rae_um = 0;    ///< the twin's RAE of this touch (with noise)
+  double scale_mm = 0;  ///< what the scale reported
+  /// The scale point less the lag the qualification removes (scale_mm when not qualified):
+  /// what an uncompensated controller reports.
+  double qualified_mm = 0;
   double time_s = 0;                   ///< time per point of the setting
   std::vector<AppliedAnswer> answers;  ///< one per agent, empty for the reference setting
 };
@@ -84,10 +93,12 @@ struct LengthTestResult {
   std::vector<YSummary> per_y;
   double fast_time_per_point_s = 0;
   double slow_time_per_point_s = 0;
-  std::uint64_t unusable_answers = 0;  ///< answers that could not be applied
+  std::uint64_t unusable_answers = 0;          ///< answers that could not be applied
+  std::optional<Qualification> qualification;  ///< measured before the program when asked for
 };
 
-/// Runs `program`: for each setting (slow, then fast), Y, length, repeat: face B, then face A.
+/// Runs `program`: the qualification first when asked for, then for each setting (slow, then
+/// fast), Y, length, repeat: face B, then face A.
 /// Before each fast approach every agent is asked (in order) for the correction; then the touch
 /// is measured by `machine`. `progress` (optional) is called after each point.
 /// Throws Error when an agent fails on the transport.

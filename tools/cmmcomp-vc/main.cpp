@@ -44,6 +44,11 @@ struct Options {
   std::string plot;
   std::string record;
   int timeout_ms = 2000;
+  bool qualify = false;
+  bool map_only = false;
+  double sphere_y_mm = 250;
+  int qualify_touches = 10;
+  std::string map_setting;
 };
 
 int run(const Options& opt) {
@@ -55,7 +60,40 @@ int run(const Options& opt) {
   program.x0_mm = opt.x0_mm;
   if (!opt.fast.empty()) program.fast = parse_setting(opt.fast, program.fast);
   if (!opt.slow.empty()) program.slow = parse_setting(opt.slow, program.slow);
+  program.qualify = opt.qualify;
+  program.qualification.sphere_y_mm = opt.sphere_y_mm;
+  program.qualification.touches = opt.qualify_touches;
+  if (!opt.map_setting.empty()) {
+    program.qualification.map_setting =
+        parse_setting(opt.map_setting, program.qualification.map_setting);
+  }
+  program.qualification.map_setting.name = "map";
   program.validate();
+
+  cmmcomp::dynamics::MeasurementNoise noise;
+  noise.enabled = !opt.no_noise;
+  noise.seed = opt.seed;
+  const cmmcomp::dynamics::Machine machine = opt.machine.empty()
+                                                 ? cmmcomp::dynamics::default_machine()
+                                                 : cmmcomp::dynamics::load_machine(opt.machine);
+  TwinProbe twin(machine, noise);
+  // The twin's controller dwells and smooths every move: that time counts per point.
+  program.dwell_s = machine.parameters.controller_dwell_s;
+  program.smoothing_s = machine.parameters.controller_smoothing_s;
+
+  // --map-only: the reversal map alone, as cmmcomp-plan's arguments; no agent, no program.
+  if (opt.map_only) {
+    const Qualification q = qualify(program.qualification, program.y_mm, {}, twin);
+    std::string nodes;
+    for (std::size_t i = 0; i < q.reference.map_y_mm.size(); ++i) {
+      nodes +=
+          fmt::format("{}{}={:.4f}", i ? "," : "", q.reference.map_y_mm[i], q.reference.map_um[i]);
+    }
+    std::printf("--sphere-y %s --reversal-map %s\n",
+                fmt::format("{}", q.reference.sphere_y_mm).c_str(),
+                nodes.c_str());
+    return 0;
+  }
 
   std::vector<AgentSpec> specs;
   if (!opt.modbus.empty()) specs.push_back(parse_agent_spec("agent=modbus:" + opt.modbus));
@@ -84,17 +122,6 @@ int run(const Options& opt) {
       }
     }
   }
-
-  cmmcomp::dynamics::MeasurementNoise noise;
-  noise.enabled = !opt.no_noise;
-  noise.seed = opt.seed;
-  const cmmcomp::dynamics::Machine machine = opt.machine.empty()
-                                                 ? cmmcomp::dynamics::default_machine()
-                                                 : cmmcomp::dynamics::load_machine(opt.machine);
-  TwinProbe twin(machine, noise);
-  // The twin's controller dwells and smooths every move: that time counts per point.
-  program.dwell_s = machine.parameters.controller_dwell_s;
-  program.smoothing_s = machine.parameters.controller_smoothing_s;
 
   // Every Y of the program needs an agent of each per-Y label, checked before connecting.
   for (const AgentSpec& s : specs) {
@@ -199,6 +226,31 @@ int main(int argc, char** argv) {
                  opt.record,
                  "record the sessions: Modbus transcript / candump -l log (docs/recordings.md); "
                  "with several agents FILE gets the label before its extension");
+  CLI::Option* qualify =
+      app.add_flag("--qualify",
+                   opt.qualify,
+                   "qualify the uncompensated columns as a CMM does: a static reversal map over Y "
+                   "and the probe qualified at each setting on a reference sphere (README, "
+                   "\"Qualified reference\")");
+  app.add_option("--sphere-y", opt.sphere_y_mm, "with --qualify: the reference sphere's Y [mm]")
+      ->capture_default_str()
+      ->needs(qualify);
+  app.add_option("--qualify-touches",
+                 opt.qualify_touches,
+                 "with --qualify: touches averaged for each map node and qualification")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000))
+      ->needs(qualify);
+  app.add_option("--map-setting",
+                 opt.map_setting,
+                 "with --qualify: the reversal map's quasi-static setting over PV 20 PD 60 AV 1 "
+                 "AD 2 PA 200 AA 60")
+      ->needs(qualify);
+  app.add_flag("--map-only",
+               opt.map_only,
+               "with --qualify: measure the reversal map only and print it as cmmcomp-plan's "
+               "--sphere-y and --reversal-map (no agent needed)")
+      ->needs(qualify);
   app.add_option("--timeout-ms", opt.timeout_ms, "answer timeout per request")
       ->capture_default_str()
       ->check(CLI::Range(1, 60'000));

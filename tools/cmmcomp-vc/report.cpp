@@ -55,10 +55,37 @@ std::string join(const std::vector<std::string>& v, const std::string& sep) {
   return out;
 }
 
+/// The uncompensated columns' suffix: "-q" when the qualification removed the static lag.
+std::string q_suffix(const LengthTestResult& r) { return r.qualification ? "-q" : ""; }
+
+/// One line on what the qualification measured and removed (qualification.hpp).
+std::string qualification_text(const Qualification& q) {
+  std::vector<std::string> nodes;
+  const planning::QualifiedReference& ref = q.reference;
+  for (std::size_t i = 0; i < ref.map_y_mm.size(); ++i) {
+    nodes.push_back(fmt::format("Y {:g} {:+.2f}", ref.map_y_mm[i], ref.map_um[i]));
+  }
+  std::vector<std::string> offsets;
+  for (std::size_t i = 0; i < q.settings.size(); ++i) {
+    offsets.push_back(fmt::format("{} {:+.2f}", q.settings[i].name, q.offsets_um[i]));
+  }
+  return fmt::format(
+      "  qualified (-q columns): reversal map at {} ({} touches a node): {} µm; probe qualified "
+      "on a sphere at Y {:g} mm: {} µm; {} touches in all; a -q point is scale + (map(Y) + "
+      "offset)·d\n",
+      setting_text(q.plan.map_setting),
+      q.plan.touches,
+      join(nodes, ", "),
+      q.plan.sphere_y_mm,
+      join(offsets, ", "),
+      q.touches_used);
+}
+
 }  // namespace
 
 std::string headline(const LengthTestResult& r) {
   const double speedup = r.slow_time_per_point_s / r.fast_time_per_point_s;
+  const std::string qualified = r.qualification ? "qualified " : "";
   std::string out;
   for (std::size_t g = 0; g < r.agent_labels.size(); ++g) {
     std::vector<std::string> gained;  // Y where compensation turns a fail into a pass
@@ -71,13 +98,15 @@ std::string headline(const LengthTestResult& r) {
     }
     out += fmt::format(
         "fast + {} compensation meets MPE_E at Y = {} mm{}; {:.2f} s per point instead of "
-        "{:.2f} s for the slow reference ({:.1f}x faster).\n",
+        "{:.2f} s for the {}slow reference ({:.1f}x faster).\n",
         r.agent_labels[g],
         passes.empty() ? std::string("none") : join(passes, ", "),
-        gained.empty() ? std::string(" (fast uncompensated fails nowhere it passes)")
-                       : " where fast uncompensated fails at Y = " + join(gained, ", ") + " mm",
+        gained.empty() ? " (fast " + qualified + "uncompensated fails nowhere it passes)"
+                       : " where fast " + qualified +
+                             "uncompensated fails at Y = " + join(gained, ", ") + " mm",
         r.fast_time_per_point_s,
         r.slow_time_per_point_s,
+        qualified,
         speedup);
   }
   if (r.agent_labels.empty()) out = "no agent: nothing compensated\n";
@@ -98,11 +127,13 @@ std::string format_report(const LengthProgram& program, const LengthTestResult& 
   for (std::size_t g = 0; g < r.agent_labels.size(); ++g) {
     out += fmt::format("  agent {}: {}, model {}\n", r.agent_labels[g], r.agent_places[g], ids[g]);
   }
+  if (r.qualification) out += qualification_text(*r.qualification);
   out +=
       "\nLength error E = measured − nominal [µm] (worst repeat); * = |E| > MPE_E = 1.9 + "
       "L/300 µm\n";
-  std::string head =
-      fmt::format("{:>6} {:>6} {:>7} {:>9} {:>9}", "Y mm", "L mm", "MPE_E", "slow", "fast-unc");
+  const std::string q = q_suffix(r);
+  std::string head = fmt::format(
+      "{:>6} {:>6} {:>7} {:>9} {:>9}", "Y mm", "L mm", "MPE_E", "slow" + q, "fast-unc" + q);
   for (const auto& l : r.agent_labels) head += fmt::format(" {:>9}", "fast-" + l);
   out += head + "\n";
   for (const CaseResult& c : r.cases) {
@@ -120,7 +151,7 @@ std::string format_report(const LengthProgram& program, const LengthTestResult& 
     out += line + "\n";
   }
   out += "\nPer Y: largest |E| [µm] and whether every length met MPE_E\n";
-  head = fmt::format("{:>6} {:>13} {:>13}", "Y mm", "slow", "fast-unc");
+  head = fmt::format("{:>6} {:>13} {:>13}", "Y mm", "slow" + q, "fast-unc" + q);
   for (const auto& l : r.agent_labels) head += fmt::format(" {:>13}", "fast-" + l);
   out += head + "\n";
   for (const YSummary& y : r.per_y) {
@@ -195,6 +226,26 @@ nlohmann::json report_json(const LengthProgram& program, const LengthTestResult&
          {"fast_uncompensated",
           {{"max_abs_um", y.fast_uncompensated_max_um}, {"pass", y.fast_uncompensated_pass}}},
          {"fast_compensated", comp}});
+  }
+  j["qualification"] = nullptr;
+  if (r.qualification) {
+    const Qualification& q = *r.qualification;
+    json map = json::array();
+    for (std::size_t i = 0; i < q.reference.map_y_mm.size(); ++i) {
+      map.push_back({{"y_mm", q.reference.map_y_mm[i]}, {"rae_um", q.reference.map_um[i]}});
+    }
+    json offsets = json::object();
+    for (std::size_t i = 0; i < q.settings.size(); ++i)
+      offsets[q.settings[i].name] = q.offsets_um[i];
+    j["qualification"] = {
+        {"sphere_y_mm", q.plan.sphere_y_mm},
+        {"touches_per_measurement", q.plan.touches},
+        {"touches", q.touches_used},
+        {"map_setting",
+         setting(q.plan.map_setting,
+                 time_per_point_s(q.plan.map_setting, program.dwell_s, program.smoothing_s))},
+        {"map", map},
+        {"offsets_um", offsets}};
   }
   j["unusable_answers"] = r.unusable_answers;
   j["headline"] = headline(r);

@@ -5,10 +5,13 @@
 
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
+#include <cstdint>
+#include <vector>
 
 #include "length_geometry.hpp"
 #include "length_test.hpp"
 #include "probe_setting.hpp"
+#include "qualification.hpp"
 
 namespace cmmcomp::vc {
 namespace {
@@ -152,6 +155,108 @@ TEST(LengthTest, UnusableAnswerLeavesTheScalePoint) {
   const LengthTestResult r = run_length_test(small_program(), machine, {&refusing});
   EXPECT_EQ(r.unusable_answers, 16u);
   for (const CaseResult& c : r.cases) EXPECT_NEAR(c.fast_compensated_um[0], -4.0, 1e-6);
+}
+
+/// A machine whose touch lags by a static part that grows with Y plus a part of the setting
+/// (proportional to AV) that grows with Y too, as the twin's hose drag and mode participation do;
+/// it logs the noise index of every touch.
+class StaticPlusDynamic final : public TouchErrorModel {
+ public:
+  static double static_um(double y) { return -3.6 - 0.0066 * y; }
+  static double dynamic_um(const ProbeSetting& s, double y) {
+    return -0.1 * s.av_mm_s * (1 + y / 500);
+  }
+  double rae_um(const ProbeSetting& s, double y, std::uint64_t index) override {
+    indices.push_back(index);
+    return static_um(y) + dynamic_um(s, y);
+  }
+  std::vector<std::uint64_t> indices;
+};
+
+TEST(Qualification, RemovesTheStaticLagAndTheSettingsLagAtTheSphere) {
+  StaticPlusDynamic machine;
+  FakeAgent agent("a", -1.0);
+  LengthProgram program = small_program();
+  const LengthTestResult raw = run_length_test(program, machine, {&agent});
+  EXPECT_FALSE(raw.qualification.has_value());
+  program.qualify = true;
+  program.qualification.sphere_y_mm = 250;
+  program.qualification.touches = 3;
+  const LengthTestResult q = run_length_test(program, machine, {&agent});
+  ASSERT_TRUE(q.qualification.has_value());
+  ASSERT_EQ(q.cases.size(), raw.cases.size());
+  const ProbeSetting& fast = program.fast;
+  const ProbeSetting& map = program.qualification.map_setting;  // the slow reference's numbers
+  for (std::size_t i = 0; i < q.cases.size(); ++i) {
+    const CaseResult& c = q.cases[i];
+    const double y = c.y_mm;
+    // Uncompensated raw: E = −2·RAE; qualified: only how the setting's lag beyond the map's
+    // changes from the sphere's Y to this Y remains.
+    EXPECT_NEAR(raw.cases[i].fast_uncompensated_um,
+                -2 * (StaticPlusDynamic::static_um(y) + StaticPlusDynamic::dynamic_um(fast, y)),
+                1e-6);
+    const double residual =
+        (StaticPlusDynamic::dynamic_um(fast, y) - StaticPlusDynamic::dynamic_um(map, y)) -
+        (StaticPlusDynamic::dynamic_um(fast, 250) - StaticPlusDynamic::dynamic_um(map, 250));
+    EXPECT_NEAR(c.fast_uncompensated_um, -2 * residual, 1e-6) << "Y " << y;
+    EXPECT_GT(std::fabs(c.fast_uncompensated_um), 0.1);  // not everything is removed
+    // The slow reference is the map's setting: nothing remains of it.
+    EXPECT_NEAR(c.slow_um, 0.0, 1e-6);
+    // The compensated column is not qualified.
+    EXPECT_DOUBLE_EQ(c.fast_compensated_um[0], raw.cases[i].fast_compensated_um[0]);
+  }
+  // The map holds the nodes 0, 250 (the sphere) and 500.
+  EXPECT_EQ(q.qualification->reference.map_y_mm, (std::vector<double>{0, 250, 500}));
+  EXPECT_NEAR(q.qualification->reference.map_um[1],
+              StaticPlusDynamic::static_um(250) + StaticPlusDynamic::dynamic_um(map, 250),
+              1e-12);
+}
+
+TEST(Qualification, TakesItsOwnNoiseStreamsBeforeTheProgram) {
+  StaticPlusDynamic machine;
+  FakeAgent agent("a", 0.0);
+  LengthProgram program = small_program();
+  program.qualify = true;
+  program.qualification.touches = 4;
+  const LengthTestResult r = run_length_test(program, machine, {&agent});
+  // 3 map nodes (0, 250, 500) and 2 settings, 4 touches each.
+  const std::size_t touches = (3 + 2) * 4;
+  EXPECT_EQ(r.qualification->touches_used, touches);
+  ASSERT_EQ(machine.indices.size(), touches + r.points.size());
+  for (std::size_t i = 0; i < touches; ++i) {
+    EXPECT_EQ(machine.indices[i], kQualificationIndex0 + i);
+  }
+  // The program's points keep their streams 0, 1, 2, …: the qualification changes none of them.
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    EXPECT_EQ(machine.indices[touches + i], i);
+    EXPECT_EQ(r.points[i].index, i);
+  }
+}
+
+TEST(Qualification, RemovesTheMapAndTheSettingsOffset) {
+  Qualification q;
+  q.reference.map_y_mm = {0, 250, 500};
+  q.reference.map_um = {-4, -5, -8};
+  q.settings = {default_fast_setting()};
+  q.offsets_um = {-1.5};
+  EXPECT_DOUBLE_EQ(q.removed_um(default_fast_setting(), 250), -6.5);
+  EXPECT_DOUBLE_EQ(q.removed_um(default_fast_setting(), 400), -5 + 0.6 * -3 - 1.5);
+  EXPECT_THROW((void)q.offset_um(default_slow_setting()), Error);
+}
+
+TEST(Qualification, ABadPlanIsAConfigErrorOnlyWhenAskedFor) {
+  LengthProgram p = small_program();
+  p.qualification.touches = 0;
+  EXPECT_NO_THROW(p.validate());
+  p.qualify = true;
+  EXPECT_THROW(p.validate(), ConfigError);
+  p.qualification.touches = 1;
+  p.qualification.sphere_y_mm = -1;
+  EXPECT_THROW(p.validate(), ConfigError);
+  p.qualification.sphere_y_mm = std::nan("");
+  EXPECT_THROW(p.validate(), ConfigError);
+  p.qualification.sphere_y_mm = 250;
+  EXPECT_NO_THROW(p.validate());
 }
 
 TEST(ProbeSetting, TimePerPointIsPositioningPlusApproach) {
