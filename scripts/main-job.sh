@@ -44,10 +44,17 @@ echo "   0.5 x MPE_E(20 mm) at Y 0, 250, 500; agents: the paper's 4 inputs, and 
 bash tools/cmmcomp-plan/planned-length-test.sh --plan-bin "$plan" --agent-bin "$agent" \
   --vc-bin "$vc" --out "$out/length-test" \
   --model 4in=data/models/default.json --model 5in=data/models/default-y.json
+echo
+echo "== 6. The same speed-up on a qualified machine: with a reversal map and the probe qualified =="
+echo "   at each setting (as a real CMM), the twin judges a grid of settings over 5 seeds"
+echo "   (scripts/qualified-sweep.sh; the table: qualified-sweep.txt; docs/planner.md)"
+CMMCOMP_BIN="$here/build/release/tools" bash scripts/qualified-sweep.sh "$out/qualified-sweep" \
+  > "$out/qualified-sweep.txt"
+tail -n 3 "$out/qualified-sweep.txt"
 # The same over SocketCAN where the User-Mode Linux runner works (vcan needs a CAN kernel).
 if bash scripts/uml-run.sh --timeout 60 -- true >/dev/null 2>&1; then
   echo
-  echo "== 6. The length test at the vc's fixed fast setting over SocketCAN (vcan0 in User-Mode Linux) =="
+  echo "== 7. The length test at the vc's fixed fast setting over SocketCAN (vcan0 in User-Mode Linux) =="
   bash scripts/uml-run.sh --timeout 180 -- bash tools/cmmcomp-vc/run-length-test.sh --can vcan0 \
     --agent-bin "$agent" --vc-bin "$vc" --out "$out/length-test-can" \
     --model 4in=data/models/default.json --model 5in=data/models/default-y.json

@@ -163,8 +163,16 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
 
   // Which model judges each Y of the program.
   constexpr double kSameY = 1e-6;  // mm
+  std::string given;               // "0, 250, 500": the models' Y, for messages
+  // The model given for `y`, or models.size().
+  const auto model_for = [&](double y) {
+    std::size_t found = models.size();
+    for (std::size_t a = 0; a < models.size(); ++a) {
+      if (std::fabs(models[a].y_mm - y) <= kSameY) found = a;
+    }
+    return found;
+  };
   if (per_y_) {
-    std::string given;
     for (std::size_t a = 0; a < models.size(); ++a) {
       if (!std::isfinite(models[a].y_mm)) {
         throw ConfigError("planner: a model's carriage position Y is not finite");
@@ -177,10 +185,7 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
       given += (given.empty() ? "" : ", ") + mm(models[a].y_mm);
     }
     for (double y : problem_.y_mm) {
-      std::size_t found = models.size();
-      for (std::size_t a = 0; a < models.size(); ++a) {
-        if (std::fabs(models[a].y_mm - y) <= kSameY) found = a;
-      }
+      const std::size_t found = model_for(y);
       if (found == models.size()) {
         throw ConfigError("planner: no model for Y " + mm(y) + " mm (models for Y " + given +
                           " mm)");
@@ -189,6 +194,35 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
     }
   } else {
     compensator_of_y_.assign(problem_.y_mm.size(), 0);
+  }
+
+  // The qualified reference: the model that judges the sphere's Y must see Y, or the planner
+  // would take the static lag's growth with Y for the setting's (a 4-input model predicts the
+  // same lag at every Y, and the residual would be the map's difference alone).
+  if (problem_.qualified) {
+    problem_.qualified->validate();
+    const double sphere = problem_.qualified->sphere_y_mm;
+    if (per_y_) {
+      sphere_compensator_ = model_for(sphere);
+      if (sphere_compensator_ == models.size()) {
+        throw ConfigError("planner: the reference sphere's Y " + mm(sphere) +
+                          " mm has no model (models for Y " + given + " mm)");
+      }
+    } else {
+      Interval y_range{};
+      if (!model_range(models.front().model, "y_mm", y_range)) {
+        throw ConfigError(
+            "planner: the qualified reference needs a model that sees Y (a 5-input model, or a "
+            "model per Y with one at the sphere's Y): the model predicts the same lag at every "
+            "Y");
+      }
+      if (sphere < y_range.lo || sphere > y_range.hi) {
+        throw ConfigError("planner: the reference sphere's Y " + mm(sphere) +
+                          " mm is outside the model's training range [" + mm(y_range.lo) + ", " +
+                          mm(y_range.hi) + "]");
+      }
+      sphere_compensator_ = 0;
+    }
   }
 
   // The search box: the limits within every model's training ranges.
@@ -252,31 +286,46 @@ SettingCheck FeedPlanner::check(const FeedSetting& s, Mode mode) const {
   c.time_per_point_s = time_per_point_s(s);
   c.feasible = std::isfinite(c.time_per_point_s);
   c.point_bound_um = -1.0;
+  compensation::MoveRequest m;
+  m.pv_mm_s = s.pv_mm_s;
+  m.pa_mm_s2 = s.pa_mm_s2;
+  m.pd_mm = s.pd_mm;
+  m.av_mm_s = s.av_mm_s;
+  m.aa_mm_s2 = s.aa_mm_s2;
+  m.ad_mm = s.ad_mm;
+  m.z_mm = problem_.z_mm;
+  m.direction = {1.0, 0.0, 0.0};
+  // Qualified: the same setting's lag at the sphere, which the qualification absorbs.
+  const bool qualified = mode == Mode::kUncompensated && problem_.qualified.has_value();
+  compensation::Correction at_sphere;
+  if (qualified) {
+    m.y_mm = problem_.qualified->sphere_y_mm;
+    if (compensators_[sphere_compensator_]->before_approach(m, at_sphere) != Status::kOk) {
+      c.feasible = false;
+    }
+  }
   for (std::size_t k = 0; k < problem_.y_mm.size(); ++k) {
     const double y = problem_.y_mm[k];
-    compensation::MoveRequest m;
-    m.pv_mm_s = s.pv_mm_s;
-    m.pa_mm_s2 = s.pa_mm_s2;
-    m.pd_mm = s.pd_mm;
-    m.av_mm_s = s.av_mm_s;
-    m.aa_mm_s2 = s.aa_mm_s2;
-    m.ad_mm = s.ad_mm;
     m.y_mm = y;
-    m.z_mm = problem_.z_mm;
-    m.direction = {1.0, 0.0, 0.0};
     compensation::Correction r;
     // Outside the training box the prediction is not trusted: such a setting is infeasible.
     if (compensators_[compensator_of_y_[k]]->before_approach(m, r) != Status::kOk) {
       c.feasible = false;
       continue;
     }
-    const double u_rae = r.u95_um[3];
-    const double bound = mode == Mode::kCompensated ? u_rae : std::fabs(r.rae_um) + u_rae;
+    double rae = r.rae_um;
+    double u_rae = r.u95_um[3];
+    if (qualified) {
+      // Two predictions' errors: treated as independent (docs/planner.md).
+      rae = problem_.qualified->residual_um(r.rae_um, y, at_sphere.rae_um);
+      u_rae = std::hypot(r.u95_um[3], at_sphere.u95_um[3]);
+    }
+    const double bound = mode == Mode::kCompensated ? u_rae : std::fabs(rae) + u_rae;
     const double mae_bound = std::fabs(r.mae_um) + r.u95_um[2];
     if (bound > c.point_bound_um) {
       c.point_bound_um = bound;
       c.worst_y_mm = y;
-      c.rae_um = r.rae_um;
+      c.rae_um = rae;
       c.u95_rae_um = u_rae;
     }
     c.mae_bound_um = std::max(c.mae_bound_um, mae_bound);

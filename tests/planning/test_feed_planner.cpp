@@ -2,6 +2,7 @@
 /// @file The feed planner against an exhaustive grid search, its constraints, and its errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/default_model.hpp>
@@ -370,6 +371,125 @@ TEST(FeedPlannerModelsPerY, BadModelSetsAreClearErrors) {
                      p,
                      "Y 600 mm is outside the model's training range [0, 500] (the model for "
                      "Y 600 mm)");
+}
+
+using cmmcomp::planning::QualifiedReference;
+
+QualifiedReference paper_like_map() {
+  QualifiedReference q;
+  q.sphere_y_mm = 250;
+  q.map_y_mm = {0, 250, 500};
+  q.map_um = {-3.7, -3.9, -6.8};
+  return q;
+}
+
+/// The raw RAE and U95 the planner sees for `s` at one Y (an unqualified planner at that Y).
+cmmcomp::planning::SettingCheck raw_at(const CompensationModelFile& model,
+                                       PlanProblem p,
+                                       const FeedSetting& s,
+                                       double y) {
+  p.y_mm = {y};
+  p.qualified.reset();
+  return FeedPlanner(model, p).check(s, Mode::kUncompensated);
+}
+
+TEST(FeedPlannerQualified, JudgesWhatTheMapAndTheQualificationLeave) {
+  const CompensationModelFile model = shipped_y_model();
+  PlanProblem p = small_domain(1e9);
+  p.y_mm = {0, 250, 500};
+  p.qualified = paper_like_map();
+  const FeedPlanner planner(model, p);
+  for (const FeedSetting& s : {kFastestCorner, kSlowestCorner}) {
+    const auto sphere = raw_at(model, p, s, 250);
+    double worst = -1, worst_residual = 0, worst_u = 0, worst_y = 0;
+    for (double y : p.y_mm) {
+      const auto raw = raw_at(model, p, s, y);
+      const double residual =
+          (raw.rae_um - sphere.rae_um) - (p.qualified->map_at_um(y) - p.qualified->map_at_um(250));
+      const double u = std::hypot(raw.u95_rae_um, sphere.u95_rae_um);
+      if (std::fabs(residual) + u > worst) {
+        worst = std::fabs(residual) + u;
+        worst_residual = residual;
+        worst_u = u;
+        worst_y = y;
+      }
+    }
+    const auto c = planner.check(s, Mode::kUncompensated);
+    EXPECT_NEAR(c.point_bound_um, worst, 1e-12) << text(s);
+    EXPECT_NEAR(c.rae_um, worst_residual, 1e-12);
+    EXPECT_NEAR(c.u95_rae_um, worst_u, 1e-12);
+    EXPECT_DOUBLE_EQ(c.worst_y_mm, worst_y);
+    // The static lag is gone: the qualified bound is far below the raw one.
+    PlanProblem raw_problem = p;
+    raw_problem.qualified.reset();
+    const FeedPlanner raw_planner(model, raw_problem);
+    EXPECT_LT(c.point_bound_um, raw_planner.check(s, Mode::kUncompensated).point_bound_um - 2);
+    // The compensated bound does not change.
+    EXPECT_DOUBLE_EQ(planner.check(s, Mode::kCompensated).point_bound_um,
+                     raw_planner.check(s, Mode::kCompensated).point_bound_um);
+  }
+}
+
+TEST(FeedPlannerQualified, PlansNoSlowerThanTheBruteForce) {
+  const CompensationModelFile model = shipped_y_model();
+  PlanProblem p = small_domain(1e9);
+  p.y_mm = {0, 250, 500};
+  p.qualified = paper_like_map();
+  // The qualified bound is not monotone in speed (here the slowest corner's exceeds the
+  // fastest's), so the budget lies halfway between the smallest bound of a 5^4 grid and the
+  // fastest corner's: it cuts the fastest corner off and leaves part of the box feasible.
+  const FeedPlanner wide(model, p);
+  const double fast = wide.check(kFastestCorner, Mode::kUncompensated).point_bound_um;
+  double smallest = fast;
+  for (int a = 0; a < 5; ++a) {
+    for (int b = 0; b < 5; ++b) {
+      for (int c = 0; c < 5; ++c) {
+        for (int d = 0; d < 5; ++d) {
+          const FeedSetting s{40 + 7.5 * a, 200, 40 + 3.75 * b, 8 + 1.0 * c, 60, 5 + 1.0 * d};
+          smallest = std::min(smallest, wide.check(s, Mode::kUncompensated).point_bound_um);
+        }
+      }
+    }
+  }
+  ASSERT_LT(smallest, fast - 0.05);
+  p.budget_um = 0.5 * (smallest + fast);
+  const FeedPlanner planner(model, p);
+  expect_at_least_as_good_as_brute_force(planner, Mode::kUncompensated);
+}
+
+TEST(FeedPlannerQualified, AModelPerYJudgesTheSphereByItsModel) {
+  // The same 4-input model at every Y predicts the same lag everywhere, so what remains is the
+  // map's difference alone: at Y 500, −(−6.8 − −3.9) = +2.9 µm.
+  PlanProblem p = small_domain(1e9);
+  p.y_mm = {0, 250, 500};
+  p.qualified = paper_like_map();
+  const FeedPlanner planner(
+      std::vector<ModelAtY>{{0, shipped_model()}, {250, shipped_model()}, {500, shipped_model()}},
+      p);
+  const auto c = planner.check(kFastestCorner, Mode::kUncompensated);
+  EXPECT_DOUBLE_EQ(c.worst_y_mm, 500);
+  EXPECT_NEAR(c.rae_um, 2.9, 1e-12);
+}
+
+TEST(FeedPlannerQualified, ItsErrorsAreClear) {
+  PlanProblem p = small_domain(1.0);
+  p.y_mm = {0, 250, 500};
+  p.qualified = paper_like_map();
+  expect_planner_error(shipped_model(), p, "needs a model that sees Y");
+  expect_planner_error(
+      std::vector<ModelAtY>{{0, shipped_model()}, {500, shipped_model()}},
+      [&] {
+        PlanProblem q = p;
+        q.y_mm = {0, 500};
+        return q;
+      }(),
+      "the reference sphere's Y 250 mm has no model (models for Y 0, 500 mm)");
+  PlanProblem far = p;
+  far.qualified->sphere_y_mm = 700;
+  expect_planner_error(shipped_y_model(), far, "the reference sphere's Y 700 mm is outside");
+  PlanProblem unsorted = p;
+  unsorted.qualified->map_y_mm = {0, 500, 250};
+  expect_planner_error(shipped_y_model(), unsorted, "ascend");
 }
 
 }  // namespace

@@ -46,6 +46,8 @@ struct Options {
   double trained_aa = 60.0;
   std::string vc_settings;
   bool json = false;
+  std::string reversal_map;  // Y=UM,…: the qualified reference's map (cmmcomp-vc --qualify)
+  double sphere_y_mm = 250.0;
 };
 
 double parse_number(const std::string& text, const std::string& option) {
@@ -116,13 +118,27 @@ nlohmann::json result_json(const planning::PlanResult& r) {
   return j;
 }
 
-std::string row(const planning::PlanResult& r) {
+/// The qualified reference the uncompensated bound used, or null.
+nlohmann::json qualified_json(const planning::PlanProblem& p) {
+  if (!p.qualified) return nullptr;
+  nlohmann::json map = nlohmann::json::array();
+  for (std::size_t i = 0; i < p.qualified->map_y_mm.size(); ++i) {
+    map.push_back({{"y_mm", p.qualified->map_y_mm[i]}, {"rae_um", p.qualified->map_um[i]}});
+  }
+  return {{"sphere_y_mm", p.qualified->sphere_y_mm}, {"map", map}};
+}
+
+/// One table row; `qualified`: the uncompensated row is judged with the qualified reference.
+std::string row(const planning::PlanResult& r, bool qualified) {
   const auto& s = r.setting;
+  const std::string mode =
+      std::string(planning::to_string(r.mode)) +
+      (qualified && r.mode == planning::Mode::kUncompensated ? ", qualified" : "");
   if (!r.found) {
     return fmt::format(
         "| {} | none in the domain meets the budget: the smallest bound is {:.3f} µm "
         "(PV {:.4g}, PD {:.4g}, AV {:.4g}, AD {:.4g}) | | | | | | | |\n",
-        planning::to_string(r.mode),
+        mode,
         r.best_point_bound_um,
         r.best_point_setting.pv_mm_s,
         r.best_point_setting.pd_mm,
@@ -132,7 +148,7 @@ std::string row(const planning::PlanResult& r) {
   return fmt::format(
       "| {} | {:.2f} | {:.0f} | {:.2f} | {:.3f} | {:.0f} | {:.3f} | {:.3f} | {:.3f} (Y {:.0f}) | "
       "{:.2f} |\n",
-      planning::to_string(r.mode),
+      mode,
       s.pv_mm_s,
       s.pa_mm_s2,
       s.pd_mm,
@@ -143,6 +159,27 @@ std::string row(const planning::PlanResult& r) {
       r.check.point_bound_um,
       r.check.worst_y_mm,
       r.check.mae_bound_um);
+}
+
+/// "Y=UM,Y=UM,…" of --reversal-map (what cmmcomp-vc --qualify --map-only prints) → the
+/// qualified reference with the sphere at `sphere_y_mm`. Throws ConfigError.
+planning::QualifiedReference parse_reversal_map(const std::string& text, double sphere_y_mm) {
+  planning::QualifiedReference q;
+  q.sphere_y_mm = sphere_y_mm;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', pos), text.size());
+    const std::string node = text.substr(pos, comma - pos);
+    const auto eq = node.find('=');
+    if (eq == std::string::npos) {
+      throw cmmcomp::ConfigError("--reversal-map: '" + node + "' is not Y=UM");
+    }
+    q.map_y_mm.push_back(parse_number(node.substr(0, eq), "--reversal-map"));
+    q.map_um.push_back(parse_number(node.substr(eq + 1), "--reversal-map"));
+    pos = comma + 1;
+  }
+  q.validate();
+  return q;
 }
 
 /// "Y=PATH" of --model-at → the model and its Y.
@@ -200,6 +237,8 @@ int run(const Options& opt, bool y_given) {
   p.pa_mm_s2_model = opt.trained_pa;
   p.aa_mm_s2_model = opt.trained_aa;
   p.edge_margin = opt.edge_margin;
+  if (!opt.reversal_map.empty())
+    p.qualified = parse_reversal_map(opt.reversal_map, opt.sphere_y_mm);
   const planning::FeedPlanner planner =
       per_y.empty() ? planning::FeedPlanner(model, p) : planning::FeedPlanner(per_y, p);
 
@@ -267,6 +306,7 @@ int run(const Options& opt, bool y_given) {
                           {"pd_mm", {planner.pd_mm().lo, planner.pd_mm().hi}},
                           {"av_mm_s", {planner.av_mm_s().lo, planner.av_mm_s().hi}},
                           {"ad_mm", {planner.ad_mm().lo, planner.ad_mm().hi}}}},
+                        {"qualified", qualified_json(p)},
                         {"compensated", result_json(compensated)},
                         {"uncompensated", result_json(raw)},
                         {"speedup", both ? nlohmann::json(ratio) : nlohmann::json(nullptr)}};
@@ -305,7 +345,7 @@ int run(const Options& opt, bool y_given) {
       "search box (limits within the model's ranges, edge margin {:g}): PV {:g}–{:g} mm/s, PD "
       "{:g}–{:g} mm, "
       "AV {:g}–{:g} mm/s, AD {:g}–{:g} mm; PA {:g}, AA {:g} mm/s² (the model's); Y {} mm; "
-      "dwell {:g} s, smoothing {:g} s\n\n",
+      "dwell {:g} s, smoothing {:g} s\n",
       p.edge_margin,
       planner.pv_mm_s().lo,
       planner.pv_mm_s().hi,
@@ -320,20 +360,37 @@ int run(const Options& opt, bool y_given) {
       ys,
       p.dwell_s,
       p.smoothing_s);
+  if (p.qualified) {
+    std::string nodes;
+    for (std::size_t i = 0; i < p.qualified->map_y_mm.size(); ++i) {
+      nodes += fmt::format(
+          "{}Y {:g} {:+.3f}", i ? ", " : "", p.qualified->map_y_mm[i], p.qualified->map_um[i]);
+    }
+    out += fmt::format(
+        "uncompensated: qualified on a sphere at Y {:g} mm with the reversal map {} µm; its "
+        "bound is |residual| + √(U95(Y)² + U95(Y {:g})²) (docs/planner.md)\n",
+        p.qualified->sphere_y_mm,
+        nodes,
+        p.qualified->sphere_y_mm);
+  }
+  out += "\n";
   out +=
       "| setting | PV mm/s | PA mm/s² | PD mm | AV mm/s | AA mm/s² | AD mm | time per point s | "
       "point bound µm (worst Y) | MAE bound µm |\n";
   out += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
-  out += row(compensated) + row(raw);
+  const bool qualified = p.qualified.has_value();
+  out += row(compensated, qualified) + row(raw, qualified);
   if (both) {
     out += fmt::format(
         "\ncompensation: {:.2f}x less time per point than the fastest "
-        "uncompensated setting that meets the same budget\n",
-        ratio);
+        "{}uncompensated setting that meets the same budget\n",
+        ratio,
+        qualified ? "qualified " : "");
   } else if (compensated.found) {
-    out +=
-        "\nno uncompensated setting inside the model's domain meets the budget: compensation "
-        "is what makes this budget reachable in the domain\n";
+    out += fmt::format(
+        "\nno {}uncompensated setting inside the model's domain meets the budget: compensation "
+        "is what makes this budget reachable in the domain\n",
+        qualified ? "qualified " : "");
   }
   for (const auto& b : brute) {
     out +=
@@ -418,6 +475,16 @@ int main(int argc, char** argv) {
                  opt.vc_settings,
                  "also write the two settings as cmmcomp-vc --fast/--slow values to FILE: lines "
                  "'compensated=…' and 'uncompensated=…' (a line only for a setting found)");
+  auto* map = app.add_option(
+      "--reversal-map",
+      opt.reversal_map,
+      "Y=UM,…: judge the uncompensated setting as a CMM with this static reversal map and its "
+      "probe qualified at the measuring setting (cmmcomp-vc --qualify --map-only prints it; "
+      "needs a model that sees Y; docs/planner.md, \"The qualified reference\")");
+  app.add_option(
+         "--sphere-y", opt.sphere_y_mm, "with --reversal-map: the reference sphere's Y [mm]")
+      ->capture_default_str()
+      ->needs(map);
   app.add_flag("--json", opt.json, "print the result as JSON");
   try {
     app.parse(argc, argv);

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # planned-length-test.sh --plan-bin PLAN --agent-bin AGENT --vc-bin VC --out DIR
 #                        --model LABEL[@Y]=PATH [--model LABEL[@Y]=PATH]... [--plan-model PATH |
-#                        --plan-model-at Y=PATH...] [--y LIST] [--edge-margin M] [-- MORE VC ARGS]
+#                        --plan-model-at Y=PATH...] [--y LIST] [--edge-margin M] [--qualify]
+#                        [-- MORE VC ARGS]
 #
 # The length test at the planner's settings (docs/planner.md): cmmcomp-plan finds, for the model
 # --plan-model (default: the last --model), or a model per Y (--plan-model-at, repeated; the vc
@@ -16,9 +17,14 @@
 # carriage positions with --y (to the planner and the vc both), not after --. --y defaults to
 # 0,250,500, the vc's program, also with --plan-model-at (unlike cmmcomp-plan alone, which then
 # takes the models' Ys): the planner must judge the Ys the vc probes, so each needs a model.
+# --qualify: the uncompensated machine as a CMM with a static reversal map and its probe
+# qualified at the measuring setting (docs/planner.md, "The qualified reference"): the vc
+# measures the map first (cmmcomp-vc --qualify --map-only, with the same MORE VC ARGS), the
+# planner judges the uncompensated setting by what map and qualification leave, and the length
+# test's uncompensated columns are qualified the same way (-q). Needs a model that sees Y.
 set -euo pipefail
 plan_bin=""; agent_bin=""; vc_bin=""; out=""; models=(); plan_model=""; plan_at=(); y="0,250,500"
-margin=()
+margin=(); qualify=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --plan-bin) plan_bin="$2"; shift 2 ;;
@@ -30,8 +36,9 @@ while [ $# -gt 0 ]; do
     --plan-model-at) plan_at+=(--model-at "$2"); shift 2 ;;
     --y) y="$2"; shift 2 ;;
     --edge-margin) margin=(--edge-margin "$2"); shift 2 ;;
+    --qualify) qualify=1; shift ;;
     --) shift; break ;;
-    -h|--help) sed -n '3,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '3,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "planned-length-test: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -50,6 +57,15 @@ mkdir -p "$out"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 
 plan_args=("${plan_at[@]}" --y "$y" --mpe-e 1.9,300 --length 20 --share 0.5 "${margin[@]}")
+qualified_vc=()
+if [ $qualify -eq 1 ]; then
+  # The map as the length test will measure it (same Y, seed and machine: the same touches).
+  map_line="$("$vc_bin" --qualify --map-only --y "$y" "$@")"
+  read -r -a map_args <<< "$map_line"
+  echo "qualified reference: $map_line"
+  plan_args+=("${map_args[@]}")
+  qualified_vc=(--qualify)
+fi
 # The planner: its table and the settings as cmmcomp-vc takes them, then the same as JSON.
 status=0
 "$plan_bin" "${plan_args[@]}" --vc-settings "$out/plan-settings.txt" > "$out/plan.txt" || status=$?
@@ -66,11 +82,12 @@ if [ -n "$(setting uncompensated)" ]; then
   vc_args+=(--slow "$(setting uncompensated)")
   echo "reference: the planner's fastest uncompensated setting"
 else
-  echo "reference: the vc's fixed slow setting (no uncompensated setting in the model's domain" \
-       "meets the budget)"
+  qualified_word=""; [ $qualify -eq 0 ] || qualified_word="qualified "
+  echo "reference: the vc's fixed slow setting (no ${qualified_word}uncompensated setting in the" \
+       "model's domain meets the budget)"
 fi
 echo
 model_args=()
 for m in "${models[@]}"; do model_args+=(--model "$m"); done
 bash "$here/tools/cmmcomp-vc/run-length-test.sh" --agent-bin "$agent_bin" --vc-bin "$vc_bin" \
-  --out "$out" "${model_args[@]}" -- "${vc_args[@]}" --y "$y" "$@"
+  --out "$out" "${model_args[@]}" -- "${vc_args[@]}" "${qualified_vc[@]}" --y "$y" "$@"

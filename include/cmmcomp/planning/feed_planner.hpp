@@ -10,12 +10,16 @@
 /// every carriage position Y of the program:
 ///   compensated:    U95(RAE)              ≤ budget   (the corrected point's error, 95 %)
 ///   uncompensated:  |RAE| + U95(RAE)      ≤ budget   (the raw touch error, 95 %)
+///                   or, with a qualified reference (qualified_reference.hpp), what the
+///                   reversal map and the probe qualification leave of it
 ///   both:           |MAE| + U95(MAE)      ≤ the MAE limit (overtravel and stylus load).
 /// Setup-time code (allocates, throws ConfigError): it runs before a program, not in it.
 #pragma once
 
 #include <cmmcomp/io/compensation_model_file.hpp>
+#include <cmmcomp/planning/qualified_reference.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,6 +70,12 @@ struct PlanProblem {
   int grid_points = 11;
   /// The local search stops when its step is below this share of each input's range.
   double tolerance = 1e-4;
+  /// The uncompensated machine's reversal map and probe qualification (qualified_reference.hpp,
+  /// docs/planner.md, "The qualified reference"). Set: an uncompensated setting is judged by
+  /// what they leave of its lag, |residual| + √(U95(Y)² + U95(Y_sphere)²), which needs a model
+  /// that sees Y (a 5-input model, or a model per Y with one at the sphere's Y). Unset: by the
+  /// raw |RAE| + U95. The compensated bound does not change.
+  std::optional<QualifiedReference> qualified;
 };
 
 /// A model and the carriage position Y it serves: with one model trained at each Y of the
@@ -83,13 +93,13 @@ enum class Mode { kCompensated, kUncompensated };
 struct SettingCheck {
   bool feasible = false;
   double time_per_point_s = 0.0;
-  /// The 95 % bound of the point error [µm]: U95(RAE) compensated, |RAE| + U95(RAE) without;
-  /// the largest over the Y positions.
+  /// The 95 % bound of the point error [µm]: U95(RAE) compensated, |RAE| + U95(RAE) without
+  /// (qualified: |residual| + the combined U95); the largest over the Y positions.
   double point_bound_um = 0.0;
   double mae_bound_um = 0.0;  ///< |MAE| + U95(MAE), largest over Y [µm]
   double worst_y_mm = 0.0;    ///< where point_bound_um is reached
-  double rae_um = 0.0;        ///< the model's RAE at worst_y_mm [µm]
-  double u95_rae_um = 0.0;    ///< its U95 [µm]
+  double rae_um = 0.0;        ///< the model's RAE at worst_y_mm [µm] (qualified: the residual)
+  double u95_rae_um = 0.0;    ///< its U95 [µm] (qualified: √(U95(Y)² + U95(Y_sphere)²))
 };
 
 /// The answer for one mode.
@@ -154,6 +164,7 @@ class FeedPlanner {
   /// of the program.
   std::vector<std::unique_ptr<compensation::MoveCompensator>> compensators_;
   std::vector<std::size_t> compensator_of_y_;
+  std::size_t sphere_compensator_ = 0;  ///< the one that judges the sphere's Y (qualified)
   Interval pv_, pd_, av_, ad_;
   std::vector<std::string> model_ids_;
   std::vector<int> model_inputs_;
