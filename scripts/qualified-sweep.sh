@@ -34,22 +34,11 @@ parse_check_and_work "$@"
 pvs="${PV:-76.75 100}"; pds="${PD:-40 50 60}"; avs="${AV:-12 14 16}"; ads="${AD:-5 6 7 8 9 10}"
 
 # One agent serves every run (its answers are the compensated column).
-pid=""
-trap '[ -z "$pid" ] || { kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; }' EXIT
-for attempt in $(seq 0 19); do
-  port=$(( 20000 + ($$ * 41 + attempt * 137) % 25000 ))
-  : > "$work/agent.log"
-  "$agent" --modbus "tcp:127.0.0.1:$port" --model "$model" > "$work/agent.log" 2>&1 &
-  pid=$!
-  for _ in $(seq 50); do
-    grep -q "listening on" "$work/agent.log" && break
-    kill -0 "$pid" 2>/dev/null || break
-    sleep 0.1
-  done
-  grep -q "listening on" "$work/agent.log" && break
-  kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; pid=""
-done
-[ -n "$pid" ] || { echo "qualified-sweep: the agent did not start" >&2; cat "$work/agent.log" >&2; exit 2; }
+trap '[ -z "${agent_pid:-}" ] || { kill "$agent_pid" 2>/dev/null || true; wait "$agent_pid" 2>/dev/null || true; }' EXIT
+if ! start_modbus_agent "$agent" "$work/agent.log" 127.0.0.1 --model "$model"; then
+  echo "qualified-sweep: the agent did not start" >&2; cat "$work/agent.log" >&2; exit 2
+fi
+port="$agent_port"
 
 echo "| PV mm/s | PD mm | AV mm/s | AD mm | time per point s | qualified uncompensated | compensated |"
 echo "|---|---|---|---|---|---|---|"

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
-# Sourced by the measurement scripts that drive the built tools (cross-machine.sh,
-# interval-coverage.sh): the tool check, the --check flag and the work folder, once.
+# Sourced by the scripts that drive the built tools (cross-machine.sh, interval-coverage.sh,
+# qualified-sweep.sh, the live replay test): the tool check, the --check flag, the work folder
+# and starting an agent on a free port, once.
 # require_tools SCRIPT TOOL...: exits 2 with a hint when a tool is not built.
 require_tools() {
   local script="$1"
@@ -26,4 +27,29 @@ parse_check_and_work() {
     trap 'rm -rf "$work"' EXIT
   fi
   mkdir -p "$work"
+}
+# start_modbus_agent AGENT LOG HOST [AGENT ARGS...]: starts cmmcomp-agent on a free Modbus TCP
+# port of HOST (up to 20 pseudo-random ports) and waits for its "listening on"; sets agent_pid
+# and agent_port. Returns 1 when it did not start (LOG says why); the caller stops the agent.
+start_modbus_agent() {
+  local agent="$1" log="$2" host="$3"
+  shift 3
+  agent_pid=""
+  agent_port=""
+  local attempt
+  for attempt in $(seq 0 19); do
+    agent_port=$((20000 + ($$ * 53 + attempt * 1013) % 30000))
+    : >"$log"  # empty first: a "listening on" of an earlier run is not this agent's
+    "$agent" --modbus "tcp:$host:$agent_port" "$@" >"$log" 2>&1 &
+    agent_pid=$!
+    for _ in $(seq 100); do
+      grep -q "listening on" "$log" && return 0
+      kill -0 "$agent_pid" 2>/dev/null || break
+      sleep 0.05
+    done
+    kill "$agent_pid" 2>/dev/null || true
+    wait "$agent_pid" 2>/dev/null || true
+    agent_pid=""
+  done
+  return 1
 }

@@ -10,21 +10,17 @@ if [ "$host" = "[::1]" ] && ! grep -q '^0\{31\}1 ' /proc/net/if_inet6 2>/dev/nul
   echo "live_modbus: no IPv6 loopback on this machine (skipped)"
   exit 0
 fi
+# shellcheck source=../../../scripts/lib/tool-script.sh
+source "$(dirname "${BASH_SOURCE[0]}")/../../../scripts/lib/tool-script.sh"
 log="$(mktemp "${TMPDIR:-/tmp}/replay-agent.XXXXXX")"
-pid=""
-cleanup() { if [ -n "$pid" ]; then kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; fi; rm -f "$log"; }
+agent_pid=""
+cleanup() {
+  if [ -n "$agent_pid" ]; then kill "$agent_pid" 2>/dev/null || true; wait "$agent_pid" 2>/dev/null || true; fi
+  rm -f "$log"
+}
 trap cleanup EXIT
-for attempt in $(seq 0 19); do
-  port=$(( 20000 + ($$ * 53 + attempt * 1013) % 30000 ))
-  "$agent" --modbus "tcp:$host:$port" --model "$model" >"$log" 2>&1 &
-  pid=$!
-  for _ in $(seq 100); do
-    grep -q "listening on" "$log" && break
-    kill -0 "$pid" 2>/dev/null || break
-    sleep 0.05
-  done
-  grep -q "listening on" "$log" && break
-  kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; pid=""
-done
-[ -n "$pid" ] || { echo "live_modbus: the agent did not start:" >&2; cat "$log" >&2; exit 1; }
+if ! start_modbus_agent "$agent" "$log" "$host" --model "$model"; then
+  echo "live_modbus: the agent did not start:" >&2; cat "$log" >&2; exit 1
+fi
+port="$agent_port"
 "$replay" "$recording" --live "modbus:tcp:$host:$port"
