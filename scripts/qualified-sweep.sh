@@ -11,7 +11,7 @@
 # MPE_E", with the twin itself as the judge instead of the planner's bounds.
 # Defaults: the shipped 5-input model, seeds 1,2,3,4,5, the grid PV 76.75 100, PD 40 50 60,
 # AV 12 14 16, AD 5 6 7 8 9 10 (override with the environment: PV="…" PD="…" AV="…" AD="…").
-# Needs the release tools built (CMMCOMP_BIN overrides build/release/tools). About 3 minutes.
+# Needs the release tools built (CMMCOMP_BIN overrides build/release/tools). About 10 s.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${CMMCOMP_BIN:-$here/build/release/tools}"
@@ -26,15 +26,28 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --model) model="$2"; shift 2 ;;
     --seeds) seeds="$2"; shift 2 ;;
-    -h|--help) sed -n '3,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '3,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "qualified-sweep: unknown option '$1' (see --help)" >&2; exit 2 ;;
     *) break ;;
   esac
 done
-parse_check_and_work "$@"
+# WORK, or a temporary folder removed at exit (with the agent stopped).
+work="${1:-}"
+temporary=""
+if [ -z "$work" ]; then
+  work="$(mktemp -d)"
+  temporary="$work"
+fi
+mkdir -p "$work"
 pvs="${PV:-76.75 100}"; pds="${PD:-40 50 60}"; avs="${AV:-12 14 16}"; ads="${AD:-5 6 7 8 9 10}"
 
 # One agent serves every run (its answers are the compensated column).
-trap '[ -z "${agent_pid:-}" ] || { kill "$agent_pid" 2>/dev/null || true; wait "$agent_pid" 2>/dev/null || true; }' EXIT
+agent_pid=""
+cleanup() {
+  if [ -n "$agent_pid" ]; then kill "$agent_pid" 2>/dev/null || true; wait "$agent_pid" 2>/dev/null || true; fi
+  [ -z "$temporary" ] || rm -rf "$temporary"
+}
+trap cleanup EXIT
 if ! start_modbus_agent "$agent" "$work/agent.log" 127.0.0.1 --model "$model"; then
   echo "qualified-sweep: the agent did not start" >&2; cat "$work/agent.log" >&2; exit 2
 fi
@@ -53,8 +66,14 @@ for pv in $pvs; do for pd in $pds; do for av in $avs; do for ad in $ads; do
       --fast "pv=$pv,pd=$pd,av=$av,ad=$ad" > "$report"
     time_s="$(sed -n 's/^  fast: .*(\([0-9.]*\) s per point, compensated)$/\1/p' "$report")"
     # The per-Y summary: Y, slow-q max and pass, fast-unc-q max and pass, fast-model max and pass.
-    read -r u c <<< "$(awk '/^Per Y/ { on = 1; next } on && NF == 7 {
-        u += ($5 == "pass"); c += ($7 == "pass"); n++ } END { print (u == n), (c == n) }' "$report")"
+    summary="$(awk '/^Per Y/ { on = 1; next } on && NF == 7 {
+        u += ($5 == "pass"); c += ($7 == "pass"); n++ } END { if (n > 0) print (u == n), (c == n) }' "$report")"
+    if [ -z "$time_s" ] || [ -z "$summary" ]; then
+      echo "qualified-sweep: cannot read the vc's report at PV $pv PD $pd AV $av AD $ad:" >&2
+      cat "$report" >&2
+      exit 1
+    fi
+    read -r u c <<< "$summary"
     unc=$((unc + u)); comp=$((comp + c))
   done
   printf '| %s | %s | %s | %s | %s | %d of %d seeds pass | %d of %d seeds pass |\n' \

@@ -202,6 +202,17 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
   if (problem_.qualified) {
     problem_.qualified->validate();
     const double sphere = problem_.qualified->sphere_y_mm;
+    // The map must cover the program and the sphere: beyond its nodes it is only held flat.
+    const std::vector<double>& nodes = problem_.qualified->map_y_mm;
+    std::vector<double> needed = problem_.y_mm;
+    needed.push_back(sphere);
+    for (double y : needed) {
+      if (y < nodes.front() - kSameY || y > nodes.back() + kSameY) {
+        throw ConfigError("planner: the reversal map covers Y " + mm(nodes.front()) + " to " +
+                          mm(nodes.back()) + " mm, not Y " + mm(y) +
+                          " mm (measure it there: cmmcomp-vc --qualify --map-only --y …)");
+      }
+    }
     if (per_y_) {
       sphere_compensator_ = model_for(sphere);
       if (sphere_compensator_ == models.size()) {
@@ -209,19 +220,22 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
                           " mm has no model (models for Y " + given + " mm)");
       }
     } else {
-      Interval y_range{};
-      if (!model_range(models.front().model, "y_mm", y_range)) {
+      Interval unused{};
+      if (!model_range(models.front().model, "y_mm", unused)) {
         throw ConfigError(
             "planner: the qualified reference needs a model that sees Y (a 5-input model, or a "
             "model per Y with one at the sphere's Y): the model predicts the same lag at every "
             "Y");
       }
-      if (sphere < y_range.lo || sphere > y_range.hi) {
-        throw ConfigError("planner: the reference sphere's Y " + mm(sphere) +
-                          " mm is outside the model's training range [" + mm(y_range.lo) + ", " +
-                          mm(y_range.hi) + "]");
-      }
       sphere_compensator_ = 0;
+    }
+    // A model that sees Y must have been trained where the sphere is.
+    Interval y_range{};
+    if (model_range(models[sphere_compensator_].model, "y_mm", y_range) &&
+        (sphere < y_range.lo || sphere > y_range.hi)) {
+      throw ConfigError("planner: the reference sphere's Y " + mm(sphere) +
+                        " mm is outside the model's training range [" + mm(y_range.lo) + ", " +
+                        mm(y_range.hi) + "]");
     }
   }
 
@@ -301,7 +315,8 @@ SettingCheck FeedPlanner::check(const FeedSetting& s, Mode mode) const {
   if (qualified) {
     m.y_mm = problem_.qualified->sphere_y_mm;
     if (compensators_[sphere_compensator_]->before_approach(m, at_sphere) != Status::kOk) {
-      c.feasible = false;
+      c.feasible = false;  // no residual without the sphere's prediction: no bound either
+      return c;
     }
   }
   for (std::size_t k = 0; k < problem_.y_mm.size(); ++k) {

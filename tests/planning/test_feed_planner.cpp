@@ -463,12 +463,31 @@ TEST(FeedPlannerQualified, AModelPerYJudgesTheSphereByItsModel) {
   PlanProblem p = small_domain(1e9);
   p.y_mm = {0, 250, 500};
   p.qualified = paper_like_map();
-  const FeedPlanner planner(
+  const FeedPlanner same(
       std::vector<ModelAtY>{{0, shipped_model()}, {250, shipped_model()}, {500, shipped_model()}},
       p);
-  const auto c = planner.check(kFastestCorner, Mode::kUncompensated);
+  const auto c = same.check(kFastestCorner, Mode::kUncompensated);
   EXPECT_DOUBLE_EQ(c.worst_y_mm, 500);
   EXPECT_NEAR(c.rae_um, 2.9, 1e-12);
+  // With the 5-input model at the sphere's Y only, the sphere's lag is that model's: the
+  // residual at Y 500 is the 4-input model's lag there less the 5-input model's at Y 250.
+  const FeedPlanner mixed(
+      std::vector<ModelAtY>{{0, shipped_model()}, {250, shipped_y_model()}, {500, shipped_model()}},
+      p);
+  PlanProblem at_500 = p;
+  at_500.y_mm = {500};
+  at_500.qualified.reset();
+  const double rae_500 =
+      FeedPlanner(shipped_model(), at_500).check(kFastestCorner, Mode::kUncompensated).rae_um;
+  const double rae_sphere = raw_at(shipped_y_model(), p, kFastestCorner, 250).rae_um;
+  const double expected = (rae_500 - rae_sphere) - (-6.8 - -3.9);
+  ASSERT_GT(std::fabs(expected - 2.9), 0.05) << "the two models must differ at the sphere";
+  PlanProblem only_500 = p;
+  only_500.y_mm = {500};
+  const FeedPlanner mixed_500(
+      std::vector<ModelAtY>{{250, shipped_y_model()}, {500, shipped_model()}}, only_500);
+  EXPECT_NEAR(mixed_500.check(kFastestCorner, Mode::kUncompensated).rae_um, expected, 1e-12);
+  EXPECT_GE(mixed.check(kFastestCorner, Mode::kUncompensated).point_bound_um, std::fabs(expected));
 }
 
 TEST(FeedPlannerQualified, ItsErrorsAreClear) {
@@ -486,10 +505,27 @@ TEST(FeedPlannerQualified, ItsErrorsAreClear) {
       "the reference sphere's Y 250 mm has no model (models for Y 0, 500 mm)");
   PlanProblem far = p;
   far.qualified->sphere_y_mm = 700;
+  far.qualified->map_y_mm.push_back(700);
+  far.qualified->map_um.push_back(-8.0);
   expect_planner_error(shipped_y_model(), far, "the reference sphere's Y 700 mm is outside");
   PlanProblem unsorted = p;
   unsorted.qualified->map_y_mm = {0, 500, 250};
   expect_planner_error(shipped_y_model(), unsorted, "ascend");
+  // Beyond its nodes the map is only held flat: it must cover the program and the sphere.
+  PlanProblem short_map = p;
+  short_map.qualified->map_y_mm = {0, 250};
+  short_map.qualified->map_um = {-3.7, -3.9};
+  expect_planner_error(
+      shipped_y_model(), short_map, "the reversal map covers Y 0 to 250 mm, not Y 500 mm");
+  // A 5-input model at the sphere's Y must have been trained there.
+  PlanProblem per_y = p;
+  per_y.y_mm = {0};
+  per_y.qualified->sphere_y_mm = 600;
+  per_y.qualified->map_y_mm = {0, 600};
+  per_y.qualified->map_um = {-3.7, -7.5};
+  expect_planner_error(std::vector<ModelAtY>{{0, shipped_model()}, {600, shipped_y_model()}},
+                       per_y,
+                       "the reference sphere's Y 600 mm is outside the model's training range");
 }
 
 }  // namespace

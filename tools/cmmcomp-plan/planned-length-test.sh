@@ -38,7 +38,7 @@ while [ $# -gt 0 ]; do
     --edge-margin) margin=(--edge-margin "$2"); shift 2 ;;
     --qualify) qualify=1; shift ;;
     --) shift; break ;;
-    -h|--help) sed -n '3,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '3,24p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "planned-length-test: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done

@@ -246,14 +246,20 @@ int main(int argc, char** argv) {
                  "with --qualify: the reversal map's quasi-static setting over PV 20 PD 60 AV 1 "
                  "AD 2 PA 200 AA 60")
       ->needs(qualify);
-  app.add_flag("--map-only",
-               opt.map_only,
-               "with --qualify: measure the reversal map only and print it as cmmcomp-plan's "
-               "--sphere-y and --reversal-map (no agent needed)")
-      ->needs(qualify);
+  CLI::Option* map_only =
+      app.add_flag("--map-only",
+                   opt.map_only,
+                   "with --qualify: measure the reversal map only and print it as cmmcomp-plan's "
+                   "--sphere-y and --reversal-map (no agent needed)")
+          ->needs(qualify);
   app.add_option("--timeout-ms", opt.timeout_ms, "answer timeout per request")
       ->capture_default_str()
       ->check(CLI::Range(1, 60'000));
+  // --map-only runs no program: what only a program uses cannot go with it.
+  for (const char* name :
+       {"--modbus", "--can", "--agent", "--csv", "--json", "--plot", "--record"}) {
+    map_only->excludes(app.get_option(name));
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -45,6 +45,8 @@ std::vector<std::string> write_plots(const std::string& dir,
     const std::string gp = base + ".gp";
     {
       std::ofstream g(gp, std::ios::trunc);
+      // The uncompensated curves of a qualified run are the -q columns of the report.
+      const char* q = r.qualification ? ", qualified" : "";
       g << "set terminal pngcairo size 900,600 noenhanced\n"
         << "set output '" << png << "'\n"
         << fmt::format(
@@ -57,8 +59,9 @@ std::vector<std::string> write_plots(const std::string& dir,
         << "set key below\nset xzeroaxis\n"
         << "plot '" << dat << "' using 1:2 with lines dt 2 lc rgb 'black' title '+MPE_E', "
         << "'' using 1:(-$2) with lines dt 2 lc rgb 'black' title '-MPE_E', "
-        << "'' using 1:3 with linespoints pt 6 lc rgb '#1f77b4' title 'slow reference', "
-        << "'' using 1:4 with linespoints pt 7 lc rgb '#d62728' title 'fast uncompensated'";
+        << "'' using 1:3 with linespoints pt 6 lc rgb '#1f77b4' title 'slow reference" << q
+        << "', '' using 1:4 with linespoints pt 7 lc rgb '#d62728' title 'fast uncompensated" << q
+        << "'";
       static constexpr const char* kColors[] = {"#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
       for (std::size_t k = 0; k < r.agent_labels.size(); ++k) {
         g << ", '' using 1:" << 5 + k << " with linespoints pt " << 5 + 2 * k << " lw 2 lc rgb '"

@@ -16,7 +16,9 @@
 ///
 /// Only the uncompensated columns are qualified. The model predicts the whole lag, static part
 /// included, so a map on top of its correction would remove that part twice; and qualifying the
-/// compensated columns could only make them better, so leaving them out is the conservative side.
+/// compensated columns would remove the model's error at the sphere's Y (at another Y what
+/// remains is err(Y) − err(Y_sphere), which can be larger or smaller), so they keep the plain
+/// correction.
 #pragma once
 
 #include <cmmcomp/planning/qualified_reference.hpp>

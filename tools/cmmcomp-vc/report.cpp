@@ -257,7 +257,7 @@ void write_points_csv(const std::string& path, const LengthTestResult& r) {
   if (!out) throw Error("cannot write " + path);
   out << "index,setting,y_mm,length_mm,repeat,face,direction,pv_mm_s,pa_mm_s2,pd_mm,av_mm_s,"
          "aa_mm_s2,ad_mm,true_mm,twin_rae_um,scale_mm,agent,status,flags,predicted_rae_um,"
-         "correction_x_um,corrected_mm,applied,model_id,time_per_point_s\n";
+         "correction_x_um,corrected_mm,applied,model_id,time_per_point_s,qualified_mm\n";
   for (const PointRecord& p : r.points) {
     const std::string common = fmt::format(
         "{},{},{:g},{:g},{},{},{},{:g},{:g},{:g},{:g},{:g},{:g},"
@@ -278,14 +278,18 @@ void write_points_csv(const std::string& path, const LengthTestResult& r) {
         p.true_mm,
         p.rae_um,
         p.scale_mm);
+    // The point an uncompensated controller reports: the scale point, or with --qualify the
+    // scale point less the map's and the qualification's lag.
+    const std::string qualified = fmt::format(",{:.7f}", p.qualified_mm);
     if (p.answers.empty()) {
-      out << common << fmt::format(",-,,,,,{:.7f},0,,{:.4f}\n", p.scale_mm, p.time_s);
+      out << common << fmt::format(",-,,,,,{:.7f},0,,{:.4f}", p.scale_mm, p.time_s) << qualified
+          << '\n';
       continue;
     }
     for (std::size_t g = 0; g < p.answers.size(); ++g) {
       const Answer& a = p.answers[g].answer;
       out << common
-          << fmt::format(",{},{},{},{:.4f},{:.4f},{:.7f},{},{},{:.4f}\n",
+          << fmt::format(",{},{},{},{:.4f},{:.4f},{:.7f},{},{},{:.4f}",
                          r.agent_labels[g],
                          a.status,
                          a.flags,
@@ -294,7 +298,8 @@ void write_points_csv(const std::string& path, const LengthTestResult& r) {
                          p.answers[g].corrected_mm,
                          a.usable ? 1 : 0,
                          model_id_hex(a.model_id),
-                         p.time_s);
+                         p.time_s)
+          << qualified << '\n';
     }
   }
   if (!out) throw Error("cannot write " + path);

@@ -6,12 +6,15 @@
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cstdint>
+#include <fstream>
+#include <string>
 #include <vector>
 
 #include "length_geometry.hpp"
 #include "length_test.hpp"
 #include "probe_setting.hpp"
 #include "qualification.hpp"
+#include "report.hpp"
 
 namespace cmmcomp::vc {
 namespace {
@@ -231,6 +234,36 @@ TEST(Qualification, TakesItsOwnNoiseStreamsBeforeTheProgram) {
     EXPECT_EQ(machine.indices[touches + i], i);
     EXPECT_EQ(r.points[i].index, i);
   }
+}
+
+TEST(Qualification, ThePointLogCarriesTheQualifiedPoint) {
+  StaticPlusDynamic machine;
+  FakeAgent agent("a", 0.0);
+  LengthProgram program = small_program();
+  program.qualify = true;
+  const LengthTestResult r = run_length_test(program, machine, {&agent});
+  const std::string path = ::testing::TempDir() + "/qualified_points.csv";
+  write_points_csv(path, r);
+  std::ifstream in(path);
+  std::string header;
+  std::getline(in, header);
+  ASSERT_EQ(header.substr(header.rfind(',') + 1), "qualified_mm");
+  std::string row;
+  std::size_t rows = 0;
+  while (std::getline(in, row)) {
+    // The row's last field is the qualified point; the point record says what it must be.
+    const double logged = std::stod(row.substr(row.rfind(',') + 1));
+    const std::uint64_t index = std::stoull(row.substr(0, row.find(',')));
+    const PointRecord& p = r.points[index];
+    EXPECT_NEAR(logged, p.qualified_mm, 1e-7);
+    EXPECT_NEAR(
+        p.qualified_mm,
+        p.scale_mm + r.qualification->removed_um(p.setting, p.y_mm) * direction_of(p.face) * 1e-3,
+        1e-12);
+    EXPECT_GT(std::fabs(p.qualified_mm - p.scale_mm), 1e-3);  // the static lag is µm
+    ++rows;
+  }
+  EXPECT_EQ(rows, r.points.size());  // one agent: one row a point
 }
 
 TEST(Qualification, RemovesTheMapAndTheSettingsOffset) {
