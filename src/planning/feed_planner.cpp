@@ -213,26 +213,20 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
                           " mm (measure it there: cmmcomp-vc --qualify --map-only --y …)");
       }
     }
-    if (per_y_) {
-      sphere_compensator_ = model_for(sphere);
-      if (sphere_compensator_ == models.size()) {
-        throw ConfigError("planner: the reference sphere's Y " + mm(sphere) +
-                          " mm has no model (models for Y " + given + " mm)");
-      }
-    } else {
-      Interval unused{};
-      if (!model_range(models.front().model, "y_mm", unused)) {
-        throw ConfigError(
-            "planner: the qualified reference needs a model that sees Y (a 5-input model, or a "
-            "model per Y with one at the sphere's Y): the model predicts the same lag at every "
-            "Y");
-      }
-      sphere_compensator_ = 0;
+    sphere_compensator_ = per_y_ ? model_for(sphere) : 0;
+    if (sphere_compensator_ == models.size()) {
+      throw ConfigError("planner: the reference sphere's Y " + mm(sphere) +
+                        " mm has no model (models for Y " + given + " mm)");
+    }
+    Interval y_range{};
+    const bool sees_y = model_range(models[sphere_compensator_].model, "y_mm", y_range);
+    if (!per_y_ && !sees_y) {
+      throw ConfigError(
+          "planner: the qualified reference needs a model that sees Y (a 5-input model, or a "
+          "model per Y with one at the sphere's Y): the model predicts the same lag at every Y");
     }
     // A model that sees Y must have been trained where the sphere is.
-    Interval y_range{};
-    if (model_range(models[sphere_compensator_].model, "y_mm", y_range) &&
-        (sphere < y_range.lo || sphere > y_range.hi)) {
+    if (sees_y && (sphere < y_range.lo || sphere > y_range.hi)) {
       throw ConfigError("planner: the reference sphere's Y " + mm(sphere) +
                         " mm is outside the model's training range [" + mm(y_range.lo) + ", " +
                         mm(y_range.hi) + "]");

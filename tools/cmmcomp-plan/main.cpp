@@ -73,14 +73,21 @@ planning::Interval parse_interval(const std::string& text, const std::string& op
   return i;
 }
 
-std::vector<double> parse_list(const std::string& text, const std::string& option) {
-  std::vector<double> v;
+/// "a,b,c" → {"a", "b", "c"} (an empty text is one empty item).
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> items;
   std::size_t pos = 0;
   while (pos <= text.size()) {
     const std::size_t comma = std::min(text.find(',', pos), text.size());
-    v.push_back(parse_number(text.substr(pos, comma - pos), option));
+    items.push_back(text.substr(pos, comma - pos));
     pos = comma + 1;
   }
+  return items;
+}
+
+std::vector<double> parse_list(const std::string& text, const std::string& option) {
+  std::vector<double> v;
+  for (const std::string& item : split_commas(text)) v.push_back(parse_number(item, option));
   return v;
 }
 
@@ -166,17 +173,13 @@ std::string row(const planning::PlanResult& r, bool qualified) {
 planning::QualifiedReference parse_reversal_map(const std::string& text, double sphere_y_mm) {
   planning::QualifiedReference q;
   q.sphere_y_mm = sphere_y_mm;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', pos), text.size());
-    const std::string node = text.substr(pos, comma - pos);
+  for (const std::string& node : split_commas(text)) {
     const auto eq = node.find('=');
     if (eq == std::string::npos) {
       throw cmmcomp::ConfigError("--reversal-map: '" + node + "' is not Y=UM");
     }
     q.map_y_mm.push_back(parse_number(node.substr(0, eq), "--reversal-map"));
     q.map_um.push_back(parse_number(node.substr(eq + 1), "--reversal-map"));
-    pos = comma + 1;
   }
   q.validate();
   return q;
