@@ -412,8 +412,10 @@ class Trainer {
     // Out-of-fold |residual| of every sample, and its corner share κ.
     std::array<std::vector<double>, kOutputs> residuals;
     std::vector<double> corner;
+    std::vector<std::vector<Index>> fold_train(folds), fold_test(folds);
     for (std::size_t f = 0; f < folds; ++f) {
-      std::vector<Index> train, test;
+      std::vector<Index>& train = fold_train[f];
+      std::vector<Index>& test = fold_test[f];
       for (std::size_t k = 0; k < n; ++k) {
         (fold_of_group[group[k]] == f ? test : train).push_back(static_cast<Index>(k));
       }
@@ -436,8 +438,10 @@ class Trainer {
     mean_k /= static_cast<double>(corner.size());
     double var_k = 0.0;
     for (const double k : corner) var_k += (k - mean_k) * (k - mean_k);
-    for (int o = 0; o < kOutputs; ++o) {
-      const std::vector<double>& r = residuals[sz(o)];
+    struct Weighted {
+      double gain = 0.0, half_width = 0.0;
+    };
+    const auto weighted_interval = [&](const std::vector<double>& r) {
       double mean_r = 0.0, cov = 0.0;
       for (const double v : r) mean_r += v;
       mean_r /= static_cast<double>(r.size());
@@ -447,11 +451,36 @@ class Trainer {
       // centre and large at the corners (the strongest case) must give a large, finite gain,
       // not a negative intercept and no gain at all.
       const double a = std::max(mean_r - b * mean_k, 0.1 * mean_r);
-      const double gain = a > 0.0 && b > 0.0 ? b / a : 0.0;
+      Weighted w;
+      w.gain = a > 0.0 && b > 0.0 ? b / a : 0.0;
       std::vector<double> scores(r.size());
-      for (std::size_t j = 0; j < r.size(); ++j) scores[j] = r[j] / (1.0 + gain * corner[j]);
-      cal.corner_gain[sz(o)] = gain;
-      cal.half_width[sz(o)] = conformal_quantile(std::move(scores), c);
+      for (std::size_t j = 0; j < r.size(); ++j) scores[j] = r[j] / (1.0 + w.gain * corner[j]);
+      w.half_width = conformal_quantile(std::move(scores), c);
+      return w;
+    };
+    // The fold models trained as the served one, when they differ from the ridge fits.
+    std::array<std::vector<double>, kOutputs> served;
+    const bool served_differs =
+        options_.method == FnnMethod::kLevenbergMarquardt && options_.max_iterations > 0;
+    const bool have_served = options_.interval_folds != IntervalFolds::kRidge &&
+                             served_differs &&
+                             served_fold_residuals(fold_train, fold_test, lambda, served);
+    s.interval_folds.assign(static_cast<std::size_t>(kOutputs), IntervalFolds::kRidge);
+    for (int o = 0; o < kOutputs; ++o) {
+      Weighted w = weighted_interval(residuals[sz(o)]);
+      if (have_served) {
+        const Weighted w_served = weighted_interval(served[sz(o)]);
+        // The mean half-width over the calibration moves, h·(1 + k·mean κ): the narrower one
+        // is the less pessimistic estimate of the served model's error.
+        const bool narrower = w_served.half_width * (1.0 + w_served.gain * mean_k) <
+                              w.half_width * (1.0 + w.gain * mean_k);
+        if (options_.interval_folds == IntervalFolds::kAsServed || narrower) {
+          w = w_served;
+          s.interval_folds[sz(o)] = IntervalFolds::kAsServed;
+        }
+      }
+      cal.corner_gain[sz(o)] = w.gain;
+      cal.half_width[sz(o)] = w.half_width;
     }
 
     std::array<std::vector<double>, kOutputs> needs;
@@ -492,6 +521,47 @@ class Trainer {
     }
     cal.coverage = c;
     s.interval_samples = n;
+  }
+
+  /// |raw residual| per output of every sample of `test[f]`, predicted by a network trained
+  /// on `train[f]` exactly as the served one (same options, λ fixed at the served λ, no
+  /// interval), in the order of the folds and their samples (that of the ridge residuals).
+  /// False when a fold cannot be trained (an input constant in it) or predicted: the ridge
+  /// residuals then stand alone.
+  bool served_fold_residuals(const std::vector<std::vector<Index>>& train,
+                             const std::vector<std::vector<Index>>& test,
+                             double lambda,
+                             std::array<std::vector<double>, kOutputs>& residuals) const {
+    FnnTrainingOptions fold_options = options_;
+    fold_options.lambda = lambda;
+    fold_options.interval_coverage = 0.0;
+    fold_options.progress = nullptr;
+    for (std::size_t f = 0; f < train.size(); ++f) {
+      if (train[f].size() < static_cast<std::size_t>(fold_options.folds)) return false;
+      std::vector<std::array<double, kInputs>> inputs;
+      std::vector<std::array<double, kOutputs>> targets;
+      for (const Index k : train[f]) {
+        inputs.push_back(raw_inputs_[sz(k)]);
+        targets.push_back(raw_targets_[sz(k)]);
+      }
+      Model model;
+      try {
+        model = Trainer(inputs, targets, fold_options).run().model;
+      } catch (const ConfigError&) {
+        return false;
+      }
+      typename Model::RawOutput y{};
+      for (const Index k : test[f]) {
+        if (!ok(fuzzy::evaluate(
+                model, raw_inputs_[sz(k)], y, fuzzy::DomainPolicy::kExtrapolate))) {
+          return false;
+        }
+        for (int o = 0; o < kOutputs; ++o) {
+          residuals[sz(o)].push_back(std::abs(y[sz(o)] - raw_targets_[sz(k)][sz(o)]));
+        }
+      }
+    }
+    return true;
   }
 
   /// The model in raw units from normalised-unit parameters.
@@ -702,6 +772,30 @@ const char* to_string(FnnMethod method) noexcept {
   return "unknown";
 }
 
+const char* to_string(IntervalFolds folds) noexcept {
+  switch (folds) {
+    case IntervalFolds::kRidge:
+      return "ridge";
+    case IntervalFolds::kAsServed:
+      return "as-served";
+    case IntervalFolds::kNarrower:
+      return "narrower";
+  }
+  return "unknown";
+}
+
+std::string interval_method(const std::vector<IntervalFolds>& used,
+                            const std::vector<std::string>& outputs) {
+  std::string which;
+  for (std::size_t o = 0; o < used.size(); ++o) {
+    if (o > 0) which += ", ";
+    which += (o < outputs.size() ? outputs[o] : "output " + std::to_string(o)) + " " +
+             to_string(used[o]);
+  }
+  return "split-conformal on design-point-grouped CV residuals (" + which +
+         "); extrapolation gain from held-out ends";
+}
+
 bool FnnTrainingOptions::is_valid(std::string* why) const {
   auto fail = [why](const std::string& msg) {
     if (why != nullptr) *why = msg;
@@ -731,6 +825,10 @@ bool FnnTrainingOptions::is_valid(std::string* why) const {
   if (!(interval_coverage == 0.0 || (interval_coverage > 0.0 && interval_coverage < 1.0))) {
     return fail("interval_coverage must be 0 (no interval) or in (0, 1)");
   }
+  if (interval_folds != IntervalFolds::kRidge && interval_folds != IntervalFolds::kAsServed &&
+      interval_folds != IntervalFolds::kNarrower) {
+    return fail("interval_folds is not an IntervalFolds value");
+  }
   return true;
 }
 
@@ -759,6 +857,9 @@ template FnnTrainingResult<4, 3, 1> train_fnn<4, 3, 1>(const std::vector<std::ar
                                                        const FnnTrainingOptions&);
 template FnnTrainingResult<1, 3, 1> train_fnn<1, 3, 1>(const std::vector<std::array<double, 1>>&,
                                                        const std::vector<std::array<double, 1>>&,
+                                                       const FnnTrainingOptions&);
+template FnnTrainingResult<1, 3, 2> train_fnn<1, 3, 2>(const std::vector<std::array<double, 1>>&,
+                                                       const std::vector<std::array<double, 2>>&,
                                                        const FnnTrainingOptions&);
 template FnnTrainingResult<2, 3, 1> train_fnn<2, 3, 1>(const std::vector<std::array<double, 2>>&,
                                                        const std::vector<std::array<double, 1>>&,

@@ -49,6 +49,8 @@ struct FitCommand {
   double lambda = -1;
   int max_iterations = cmmcomp::training::FnnTrainingOptions{}.max_iterations;
   double interval_coverage = cmmcomp::training::FnnTrainingOptions{}.interval_coverage;
+  std::string interval_folds =
+      cmmcomp::training::to_string(cmmcomp::training::FnnTrainingOptions{}.interval_folds);
   std::string inputs = inputs_option<cmmcomp::PaperInputs>();
 };
 
@@ -70,6 +72,10 @@ int run_fit(const FitCommand& cmd) {
   options.lambda = cmd.lambda;
   options.max_iterations = cmd.max_iterations;
   options.interval_coverage = cmd.interval_coverage;
+  for (const IntervalFolds f :
+       {IntervalFolds::kRidge, IntervalFolds::kAsServed, IntervalFolds::kNarrower}) {
+    if (cmd.interval_folds == to_string(f)) options.interval_folds = f;
+  }
   options.input_names = input_labels<Inputs>();
   if (isatty(fileno(stderr)) != 0) {
     options.progress = [](int iteration, double cost) {
@@ -93,23 +99,25 @@ int run_fit(const FitCommand& cmd) {
               s.final_cost);
   // The interval's columns are named by its coverage: U95 at the default 0.95.
   const std::string u_name = fmt::format("U{:g}", 100.0 * cmd.interval_coverage);
-  std::printf("%-6s %14s %14s %14s %14s %12s %12s\n",
+  std::printf("%-6s %14s %14s %14s %14s %12s %12s %10s\n",
               "",
               "init RMSE um",
               "train RMSE um",
               "CV RMSE um",
               (u_name + " um").c_str(),
               (u_name + " gain").c_str(),
-              "corner gain");
+              "corner gain",
+              (u_name + " folds").c_str());
   for (std::size_t o = 0; o < 4; ++o) {
-    std::printf("%-6s %14.4f %14.4f %14.4f %14.4f %12.3f %12.3f\n",
+    std::printf("%-6s %14.4f %14.4f %14.4f %14.4f %12.3f %12.3f %10s\n",
                 cmmcomp::kErrors[o].label,
                 s.init_train_rmse[o],
                 s.train_rmse[o],
                 s.cv_rmse[o],
                 result.interval.half_width[o],
                 result.interval.extrapolation_gain[o],
-                result.interval.corner_gain[o]);
+                result.interval.corner_gain[o],
+                o < s.interval_folds.size() ? to_string(s.interval_folds[o]) : "-");
   }
   if (!s.usable()) {
     std::fprintf(stderr, "cmmcomp-train: the trained model is not usable: %s\n", s.message.c_str());
@@ -126,7 +134,9 @@ int run_fit(const FitCommand& cmd) {
   file.training.tool_version = std::string("cmmcomp-train ") + CMMCOMP_VERSION_STRING;
   file.interval = result.interval;
   if (result.interval.available()) {
-    file.interval_method = cmmcomp::training::kIntervalMethod;
+    std::vector<std::string> outputs;
+    for (const auto& e : cmmcomp::kErrors) outputs.emplace_back(e.label);
+    file.interval_method = interval_method(s.interval_folds, outputs);
     file.interval_samples = s.interval_samples;
   }
   const std::string id = cmmcomp::io::save_model_file(cmd.output, file);
@@ -276,6 +286,13 @@ int main(int argc, char** argv) {
                   "nominal coverage of the calibrated prediction interval, in (0, 1); 0: none "
                   "(docs/uncertainty.md)")
       ->check(CLI::Range(0.0, 0.999))
+      ->capture_default_str();
+  fit->add_option("--interval-folds",
+                  fit_cmd.interval_folds,
+                  "fold models of the interval's calibration: ridge (the ridge fits), as-served "
+                  "(networks trained as the served one, one LM solve per fold) or narrower (per "
+                  "output the narrower interval of the two; docs/uncertainty.md)")
+      ->check(CLI::IsMember({"ridge", "as-served", "narrower"}))
       ->capture_default_str();
   std::vector<std::string> served_inputs;
   cmmcomp::for_each_input_set(cmmcomp::ServedInputSets{},

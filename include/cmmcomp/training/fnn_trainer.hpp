@@ -54,7 +54,9 @@
 ///  7. **Calibrates the prediction interval** (options.interval_coverage > 0, default 0.95;
 ///     docs/uncertainty.md): the split-conformal quantile of cross-validated residuals, the folds
 ///     made of whole design points, and the interval's growth outside the training box from fits
-///     with one end of one input held out. Milliseconds (ridge fits, no Ceres).
+///     with one end of one input held out. The fold models are ridge fits (milliseconds) and,
+///     with LM and options.interval_folds ≠ kRidge, also networks trained as the served one
+///     (one more LM solve per fold); by default each output takes the narrower interval.
 ///
 /// Randomness: SplitMix64 (Steele, Lea, Flood 2014; the constants of Vigna's reference code)
 /// seeded with options.seed, with uniform doubles from the top 53 bits and bounded integers by
@@ -92,10 +94,24 @@ enum class FnnMethod : std::uint8_t {
 /// "levenberg-marquardt" or "gradient-descent" (static strings).
 const char* to_string(FnnMethod method) noexcept;
 
-/// `ModelFile::interval_method` of a model calibrated by train_fnn (step 7).
-inline constexpr const char* kIntervalMethod =
-    "split-conformal on design-point-grouped CV residuals of the ridge fit; extrapolation gain "
-    "from held-out ends";
+/// Which fits give the out-of-fold residuals the interval is calibrated on (step 7). Both kinds
+/// of fold model see (K − 1)/K of the data, so both overstate the served model's error; they
+/// overstate it differently per output (docs/uncertainty.md, "Which fold models").
+enum class IntervalFolds : std::uint8_t {
+  kRidge,     ///< the ridge initialisation at the chosen λ, per fold (milliseconds)
+  kAsServed,  ///< each fold trained as the served model: ridge at λ, then the same LM iterations
+  kNarrower,  ///< per output, the narrower of the two intervals (the default)
+};
+
+/// "ridge", "as-served" or "narrower" (static strings).
+const char* to_string(IntervalFolds folds) noexcept;
+
+/// `ModelFile::interval_method` of a model calibrated by train_fnn (step 7), naming the fold
+/// models each output's half-width came from (`TrainingSummary::interval_folds`), in the order
+/// of `outputs`, e.g. "split-conformal on design-point-grouped CV residuals (MPE ridge, RPE
+/// as-served, …); extrapolation gain from held-out ends".
+std::string interval_method(const std::vector<IntervalFolds>& used,
+                            const std::vector<std::string>& outputs);
 
 /// Jet stride of the DynamicAutoDiffCostFunction (derivatives computed per pass).
 inline constexpr int kFnnJetStride = 64;
@@ -119,6 +135,9 @@ struct FnnTrainingOptions {
   double goal = 0.05;  ///< GD stops when the mean squared error [normalised] ≤ goal (paper 0.05)
   /// Nominal coverage of the calibrated prediction interval (step 7); 0 = no calibration.
   double interval_coverage = 0.95;
+  /// The fold models of the interval's calibration (step 7). kAsServed and kNarrower train
+  /// `folds` more networks with LM; with GD or max_iterations = 0 they are the ridge fits.
+  IntervalFolds interval_folds = IntervalFolds::kNarrower;
   /// Optional names of the inputs for messages (size kInputs or empty: "input i").
   std::vector<std::string> input_names;
   /// Called after each LM iteration or GD epoch: (iteration, cost [normalised units]).
@@ -145,6 +164,9 @@ struct TrainingSummary {
   std::vector<double> train_rmse;       ///< returned model on the training data
   std::vector<double> cv_rmse;          ///< k-fold CV of the ridge initialisation at `lambda`
   std::size_t interval_samples = 0;     ///< samples the interval was calibrated on (0: none)
+  /// Per output, the fold models its half-width and corner gain came from (kRidge or
+  /// kAsServed; empty when not calibrated).
+  std::vector<IntervalFolds> interval_folds;
   double wall_seconds = 0;              ///< total time of train_fnn
 
   /// The returned model can be published: the solve did not fail and every RMSE is finite.
@@ -166,7 +188,7 @@ struct FnnTrainingResult {
 /// different lengths, a non-finite value, fewer samples than options.folds, or an input whose
 /// min equals its max (named by options.input_names or its index). Explicitly instantiated for
 /// <4,3,4> (schema.hpp's PaperInputs), <5,3,4> (CarriageInputs), <4,3,1> (one output of the
-/// paper's network), and the small test sizes <1,3,1>, <2,3,1>, <2,3,2>, <2,2,1>.
+/// paper's network), and the small test sizes <1,3,1>, <1,3,2>, <2,3,1>, <2,3,2>, <2,2,1>.
 template <int kInputs, int kSets, int kOutputs>
 FnnTrainingResult<kInputs, kSets, kOutputs> train_fnn(
     const std::vector<std::array<double, kInputs>>& inputs,
