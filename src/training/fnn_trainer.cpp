@@ -462,8 +462,7 @@ class Trainer {
     std::array<std::vector<double>, kOutputs> served;
     const bool served_differs =
         options_.method == FnnMethod::kLevenbergMarquardt && options_.max_iterations > 0;
-    const bool have_served = options_.interval_folds != IntervalFolds::kRidge &&
-                             served_differs &&
+    const bool have_served = options_.interval_folds != IntervalFolds::kRidge && served_differs &&
                              served_fold_residuals(fold_train, fold_test, lambda, served);
     s.interval_folds.assign(static_cast<std::size_t>(kOutputs), IntervalFolds::kRidge);
     for (int o = 0; o < kOutputs; ++o) {
@@ -552,8 +551,7 @@ class Trainer {
       }
       typename Model::RawOutput y{};
       for (const Index k : test[f]) {
-        if (!ok(fuzzy::evaluate(
-                model, raw_inputs_[sz(k)], y, fuzzy::DomainPolicy::kExtrapolate))) {
+        if (!ok(fuzzy::evaluate(model, raw_inputs_[sz(k)], y, fuzzy::DomainPolicy::kExtrapolate))) {
           return false;
         }
         for (int o = 0; o < kOutputs; ++o) {

@@ -167,7 +167,7 @@ struct TrainingSummary {
   /// Per output, the fold models its half-width and corner gain came from (kRidge or
   /// kAsServed; empty when not calibrated).
   std::vector<IntervalFolds> interval_folds;
-  double wall_seconds = 0;              ///< total time of train_fnn
+  double wall_seconds = 0;  ///< total time of train_fnn
 
   /// The returned model can be published: the solve did not fail and every RMSE is finite.
   bool usable() const;
