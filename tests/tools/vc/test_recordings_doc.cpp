@@ -17,6 +17,9 @@
 #ifndef CMMCOMP_RECORDINGS_DOC
 #error "CMMCOMP_RECORDINGS_DOC must name docs/recordings.md"
 #endif
+#ifndef CMMCOMP_RECORDINGS_DIR
+#error "CMMCOMP_RECORDINGS_DIR must name tests/tools/replay/data"
+#endif
 
 namespace cmmcomp::vc {
 namespace {
@@ -76,11 +79,12 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
   }
   const auto r = map::decode_result(in);
   EXPECT_EQ(r.sequence, 1u);
-  EXPECT_NEAR(r.rae_um, -4.780, 5e-4);
-  EXPECT_NEAR(r.correction_um[0], 4.780, 5e-4);
-  EXPECT_EQ(r.model_id, 0xd700e2a70fc9dc38ull);
+  EXPECT_NEAR(r.rae_um, -4.773, 5e-4);
+  EXPECT_NEAR(r.correction_um[0], 4.773, 5e-4);
+  EXPECT_EQ(r.model_id, 0x20a777f9b3944044ull);
   EXPECT_EQ(r.interval_flags, compensation::kFlagOk);
   EXPECT_NEAR(r.u95_um[0], 2.735, 5e-4);
+  EXPECT_NEAR(r.u95_um[1], 1.858, 5e-4);
   EXPECT_NEAR(r.u95_um[3], 0.680, 5e-4);
 }
 
@@ -111,15 +115,47 @@ TEST(RecordingsDoc, CandumpExampleHasTheDocumentedFormAndDecodes) {
   plugins::can::DecodedResponse d;
   ASSERT_TRUE(plugins::can::decode_response(resp, 0x300, d));
   ASSERT_TRUE(plugins::can::decode_interval(frames[6], 0x300, d));
-  EXPECT_NEAR(d.correction.mpe_um, 21.59, 1e-9);
-  EXPECT_NEAR(d.correction.rae_um, -4.78, 1e-9);
-  EXPECT_NEAR(d.correction.correction_um[0], 4.78, 1e-9);
-  EXPECT_EQ(d.correction.model_id, 0x0FC9DC38u);
+  EXPECT_NEAR(d.correction.mpe_um, 21.58, 1e-9);
+  EXPECT_NEAR(d.correction.rae_um, -4.77, 1e-9);
+  EXPECT_NEAR(d.correction.correction_um[0], 4.77, 1e-9);
+  EXPECT_EQ(d.correction.model_id, 0xB3944044u);
   EXPECT_EQ(d.interval_flags, 0);
   EXPECT_NEAR(d.correction.u95_um[0], 2.74, 1e-9);
-  EXPECT_NEAR(d.correction.u95_um[1], 2.12, 1e-9);
+  EXPECT_NEAR(d.correction.u95_um[1], 1.86, 1e-9);
   EXPECT_NEAR(d.correction.u95_um[2], 1.32, 1e-9);
   EXPECT_NEAR(d.correction.u95_um[3], 0.68, 1e-9);
+}
+
+/// The lines of `path` that are not comments.
+std::vector<std::string> data_lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] != '#') out.push_back(line);
+  }
+  return out;
+}
+
+// The examples are the first exchange of the committed recordings of the shipped 4-input model
+// (scripts/regenerate-recordings.sh), timestamps included: when the model or the recordings are
+// regenerated, the document must follow.
+TEST(RecordingsDoc, ExamplesAreTheCommittedRecordingsFirstExchange) {
+  std::vector<std::string> transcript, candump;
+  for (const auto& l : example_lines()) {
+    test::TranscriptLine t;
+    test::CandumpLine c;
+    if (test::parse_transcript_line(l, t)) transcript.push_back(l);
+    if (test::parse_candump_line(l, c)) candump.push_back(l);
+  }
+  const auto modbus = data_lines(std::string(CMMCOMP_RECORDINGS_DIR) + "/modbus-default.log");
+  const auto can = data_lines(std::string(CMMCOMP_RECORDINGS_DIR) + "/can-default.log");
+  ASSERT_EQ(transcript.size(), 2u);
+  ASSERT_EQ(candump.size(), 7u);
+  ASSERT_GE(modbus.size(), transcript.size());
+  ASSERT_GE(can.size(), candump.size());
+  for (std::size_t i = 0; i < transcript.size(); ++i) EXPECT_EQ(transcript[i], modbus[i]) << i;
+  for (std::size_t i = 0; i < candump.size(); ++i) EXPECT_EQ(candump[i], can[i]) << i;
 }
 
 }  // namespace
