@@ -8,7 +8,7 @@
 # predicted +- U_c is measured with `cmmcomp-train eval --json`.
 # Writes OUT/interval-calibration.csv and OUT/interval-calibration.png (gnuplot) and prints the
 # table: a measurement, not a check (the 95 % level is checked by scripts/interval-coverage.sh).
-# Usage: bash scripts/interval-calibration-plot.sh [OUT]   (needs the release tools; about 1 min)
+# Usage: bash scripts/interval-calibration-plot.sh [OUT]   (needs the release tools; about 6 min)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${CMMCOMP_BIN:-$here/build/release/tools}"

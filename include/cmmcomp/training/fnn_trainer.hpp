@@ -68,10 +68,11 @@
 /// non-finite solve is reported in TrainingSummary, and the model falls back to the ridge
 /// initialisation when the refined parameters are not finite).
 ///
-/// Speed (release preset, shared 2-core machine, 54 samples, default options incl. CV; printed by
-/// the test `FnnTrainer.PaperSizesTiming` in optimised builds): the paper's inputs with 4 outputs
-/// (1644 parameters) 1.7 s; the four PaperNetwork fits 2.3 s together (0.45–0.7 s each). CV
-/// takes < 10 ms; the Jet Jacobian (~50 ms per LM iteration and network) dominates.
+/// Speed (release preset, shared 2-core machine, 2026-12-05, `cmmcomp-train fit` wall time): the
+/// paper's inputs with 4 outputs (1644 parameters) on L18 × 3 (54 samples) 1.9 s with
+/// `interval_folds = kRidge`, 9.5 s with the default kNarrower (five more LM solves, one per
+/// calibration fold); on the shipped model's 324 samples 9.4 s and 49.8 s. CV takes < 10 ms;
+/// the Jet Jacobian of each LM iteration dominates.
 #pragma once
 
 #include <array>
