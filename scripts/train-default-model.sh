@@ -13,7 +13,9 @@
 #    (seed 3), ridge only (--max-iterations 0: LM on 5862 parameters takes minutes and was not
 #    more accurate; docs/training.md).
 # Usage: bash scripts/train-default-model.sh [output.json [output-y.json]]
-# (needs the release tools built)
+# (needs the release tools built). CMMCOMP_FIT_ARGS, if set, is appended to the 4-input fit: the
+# sanitizer builds' default_model_retrain sets "--interval-folds ridge", since it compares the
+# networks only and the fold networks take minutes there (docs/uncertainty.md, step 6).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="${1:-$here/data/models/default.json}"
@@ -32,7 +34,8 @@ trap 'rm -rf "$work"' EXIT
 "$sim" dataset --design lhs --samples 270 --noise --seed 3 -o "$work/lhs270.csv"
 # One CSV, one header (docs/dataset-csv.md): the training file whose hash the model records.
 { cat "$work/l18x3.csv"; tail -n +2 "$work/lhs270.csv"; } > "$work/default-twin-l18x3-lhs270.csv"
-"$train" fit "$work/default-twin-l18x3-lhs270.csv" --seed 1 -o "$out"
+# shellcheck disable=SC2086 # CMMCOMP_FIT_ARGS is a list of options
+"$train" fit "$work/default-twin-l18x3-lhs270.csv" --seed 1 ${CMMCOMP_FIT_ARGS:-} -o "$out"
 
 levels_y="pv=40,70,100;pd=40,60,80;av=8,12,16;ad=5,10,15;y=0,250,500"
 "$sim" dataset --design l18 --repeats 3 --noise --seed 1 --levels "$levels_y" -o "$work/l18x3-y.csv"
