@@ -459,11 +459,15 @@ class Trainer {
       return w;
     };
     // The fold models trained as the served one, when they differ from the ridge fits.
+    // Gradient descent starts from a random model, not from the ridge fit, so for it the ridge
+    // folds say nothing about the served model: unless kRidge is asked for, its folds are
+    // always trained as served (kNarrower behaves as kAsServed).
     std::array<std::vector<double>, kOutputs> served;
-    const bool served_differs =
-        options_.method == FnnMethod::kLevenbergMarquardt && options_.max_iterations > 0;
+    const bool lm = options_.method == FnnMethod::kLevenbergMarquardt;
+    const bool served_differs = !lm || options_.max_iterations > 0;
     const bool have_served = options_.interval_folds != IntervalFolds::kRidge && served_differs &&
                              served_fold_residuals(fold_train, fold_test, lambda, served);
+    const bool only_served = options_.interval_folds == IntervalFolds::kAsServed || !lm;
     s.interval_folds.assign(static_cast<std::size_t>(kOutputs), IntervalFolds::kRidge);
     for (int o = 0; o < kOutputs; ++o) {
       Weighted w = weighted_interval(residuals[sz(o)]);
@@ -473,7 +477,7 @@ class Trainer {
         // is the less pessimistic estimate of the served model's error.
         const bool narrower = w_served.half_width * (1.0 + w_served.gain * mean_k) <
                               w.half_width * (1.0 + w.gain * mean_k);
-        if (options_.interval_folds == IntervalFolds::kAsServed || narrower) {
+        if (only_served || narrower) {
           w = w_served;
           s.interval_folds[sz(o)] = IntervalFolds::kAsServed;
         }

@@ -290,8 +290,9 @@ int main(int argc, char** argv) {
   fit->add_option("--interval-folds",
                   fit_cmd.interval_folds,
                   "fold models of the interval's calibration: ridge (the ridge fits), as-served "
-                  "(networks trained as the served one, one LM solve per fold) or narrower (per "
-                  "output the narrower interval of the two; docs/uncertainty.md)")
+                  "(networks trained as the served one, one LM solve or GD run per fold) or "
+                  "narrower (per output the narrower interval of the two; with --method gd the "
+                  "same as as-served; docs/uncertainty.md)")
       ->check(CLI::IsMember({"ridge", "as-served", "narrower"}))
       ->capture_default_str();
   std::vector<std::string> served_inputs;

@@ -55,8 +55,10 @@
 ///     docs/uncertainty.md): the split-conformal quantile of cross-validated residuals, the folds
 ///     made of whole design points, and the interval's growth outside the training box from fits
 ///     with one end of one input held out. The fold models are ridge fits (milliseconds) and,
-///     with LM and options.interval_folds ≠ kRidge, also networks trained as the served one
-///     (one more LM solve per fold); by default each output takes the narrower interval.
+///     with options.interval_folds ≠ kRidge, also networks trained as the served one (one more
+///     LM solve, or GD run, per fold); by default each output takes the narrower interval with
+///     LM, and the folds trained as served with GD, whose random start makes the ridge fits no
+///     estimate of the served model's error.
 ///
 /// Randomness: SplitMix64 (Steele, Lea, Flood 2014; the constants of Vigna's reference code)
 /// seeded with options.seed, with uniform doubles from the top 53 bits and bounded integers by
@@ -100,8 +102,8 @@ const char* to_string(FnnMethod method) noexcept;
 /// overstate it differently per output (docs/uncertainty.md, "Which fold models").
 enum class IntervalFolds : std::uint8_t {
   kRidge,     ///< the ridge initialisation at the chosen λ, per fold (milliseconds)
-  kAsServed,  ///< each fold trained as the served model: ridge at λ, then the same LM iterations
-  kNarrower,  ///< per output, the narrower of the two intervals (the default)
+  kAsServed,  ///< each fold trained as the served model (the same LM iterations or GD epochs)
+  kNarrower,  ///< LM: per output, the narrower of the two intervals (the default); GD: kAsServed
 };
 
 /// "ridge", "as-served" or "narrower" (static strings).
@@ -137,7 +139,8 @@ struct FnnTrainingOptions {
   /// Nominal coverage of the calibrated prediction interval (step 7); 0 = no calibration.
   double interval_coverage = 0.95;
   /// The fold models of the interval's calibration (step 7). kAsServed and kNarrower train
-  /// `folds` more networks with LM; with GD or max_iterations = 0 they are the ridge fits.
+  /// `folds` more networks with the served method; with LM and max_iterations = 0 they are the
+  /// ridge fits (GD always starts from its random model, so its folds always differ).
   IntervalFolds interval_folds = IntervalFolds::kNarrower;
   /// Optional names of the inputs for messages (size kInputs or empty: "input i").
   std::vector<std::string> input_names;
