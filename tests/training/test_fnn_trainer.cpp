@@ -783,17 +783,59 @@ double mean_half_width(const fuzzy::IntervalCalibration<kOutputs>& cal,
   return sum / static_cast<double>(x.size());
 }
 
+/// The same training with the ridge folds, the folds as served and the narrower of the two.
+struct EachFoldKind {
+  FnnTrainingResult<1, 3, 2> ridge, served, narrower;
+};
+EachFoldKind train_with_each_fold_kind(const BumpData& d, FnnTrainingOptions options) {
+  EachFoldKind t;
+  options.interval_folds = IntervalFolds::kRidge;
+  t.ridge = train_fnn<1, 3, 2>(d.x, d.y, options);
+  options.interval_folds = IntervalFolds::kAsServed;
+  t.served = train_fnn<1, 3, 2>(d.x, d.y, options);
+  options.interval_folds = IntervalFolds::kNarrower;
+  t.narrower = train_fnn<1, 3, 2>(d.x, d.y, options);
+  return t;
+}
+
+/// Of n fresh moves of bump_data's process (random stream `seed`), how many lie within the
+/// `model`'s prediction ± U of `served` and of `ridge`, per output. Only the first `outputs`
+/// outputs are drawn and counted (the draws, and so the moves, depend on it).
+struct FreshCoverage {
+  std::array<int, 2> served{}, ridge{};
+};
+FreshCoverage coverage_on_fresh_moves(const fuzzy::TskModel<double, 1, 3, 2>& model,
+                                      const fuzzy::IntervalCalibration<2>& served,
+                                      const fuzzy::IntervalCalibration<2>& ridge,
+                                      std::uint64_t seed,
+                                      int n,
+                                      std::size_t outputs) {
+  Rng rng{seed};
+  FreshCoverage c;
+  for (int k = 0; k < n; ++k) {
+    const double u = rng.uniform();
+    const std::array<double, 1> at{10.0 + 90.0 * u};
+    std::array<double, 2> y{bump_mean(u) + 0.2 * rng.normal(), 0.0};
+    if (outputs > 1) y[1] = 2.0 * u + 0.2 * rng.normal();
+    std::array<double, 2> predicted{};
+    EXPECT_TRUE(ok(fuzzy::evaluate(model, at, predicted, fuzzy::DomainPolicy::kClamp)));
+    std::array<double, 2> u_served{}, u_ridge{};
+    fuzzy::interval_half_widths_at(served, model.ranges, at, u_served);
+    fuzzy::interval_half_widths_at(ridge, model.ranges, at, u_ridge);
+    for (std::size_t o = 0; o < outputs; ++o) {
+      c.served[o] += std::abs(y[o] - predicted[o]) <= u_served[o] ? 1 : 0;
+      c.ridge[o] += std::abs(y[o] - predicted[o]) <= u_ridge[o] ? 1 : 0;
+    }
+  }
+  return c;
+}
+
 TEST(FnnTrainerInterval, AsServedFoldsFollowTheServedModelWhereLmImprovesOnTheRidgeFit) {
   SCOPED_TRACE(test::seed_message());
   const BumpData d = bump_data(test::seed() + 61);
   FnnTrainingOptions options;
   options.max_iterations = 30;
-  options.interval_folds = IntervalFolds::kRidge;
-  const auto ridge = train_fnn<1, 3, 2>(d.x, d.y, options);
-  options.interval_folds = IntervalFolds::kAsServed;
-  const auto served = train_fnn<1, 3, 2>(d.x, d.y, options);
-  options.interval_folds = IntervalFolds::kNarrower;
-  const auto narrower = train_fnn<1, 3, 2>(d.x, d.y, options);
+  const auto [ridge, served, narrower] = train_with_each_fold_kind(d, options);
   ASSERT_TRUE(ridge.summary.usable());
   // The calibration never changes the served model.
   EXPECT_EQ(ridge.model.params.values, served.model.params.values);
@@ -808,24 +850,12 @@ TEST(FnnTrainerInterval, AsServedFoldsFollowTheServedModelWhereLmImprovesOnTheRi
   EXPECT_LT(served.interval.half_width[0], 0.75 * ridge.interval.half_width[0]);
   // and fresh moves show which is right: the as-served interval covers about its 95 %, the
   // ridge one nearly everything.
-  Rng rng{test::seed() + 62};
-  int covered_served = 0, covered_ridge = 0;
   const int n = 4000;
-  for (int k = 0; k < n; ++k) {
-    const double u = rng.uniform();
-    const std::array<double, 1> at{10.0 + 90.0 * u};
-    const double y = bump_mean(u) + 0.2 * rng.normal();
-    std::array<double, 2> predicted{};
-    ASSERT_TRUE(ok(fuzzy::evaluate(served.model, at, predicted, fuzzy::DomainPolicy::kClamp)));
-    std::array<double, 2> u_served{}, u_ridge{};
-    fuzzy::interval_half_widths_at(served.interval, served.model.ranges, at, u_served);
-    fuzzy::interval_half_widths_at(ridge.interval, ridge.model.ranges, at, u_ridge);
-    covered_served += std::abs(y - predicted[0]) <= u_served[0] ? 1 : 0;
-    covered_ridge += std::abs(y - predicted[0]) <= u_ridge[0] ? 1 : 0;
-  }
-  EXPECT_GT(covered_served, 0.90 * n);
-  EXPECT_LT(covered_served, 0.99 * n);
-  EXPECT_GT(covered_ridge, covered_served);
+  const FreshCoverage covered = coverage_on_fresh_moves(
+      served.model, served.interval, ridge.interval, test::seed() + 62, n, 1);
+  EXPECT_GT(covered.served[0], 0.90 * n);
+  EXPECT_LT(covered.served[0], 0.99 * n);
+  EXPECT_GT(covered.ridge[0], covered.served[0]);
 
   // kNarrower takes, per output, the whole calibration (h and k) of the narrower source.
   for (std::size_t o = 0; o < 2; ++o) {
@@ -880,12 +910,7 @@ TEST(FnnTrainerInterval, GradientDescentIsCalibratedOnItsOwnFoldModels) {
   options.method = FnnMethod::kGradientDescent;
   options.epochs = 200;
   options.goal = 0.0;
-  options.interval_folds = IntervalFolds::kRidge;
-  const auto ridge = train_fnn<1, 3, 2>(d.x, d.y, options);
-  options.interval_folds = IntervalFolds::kAsServed;
-  const auto served = train_fnn<1, 3, 2>(d.x, d.y, options);
-  options.interval_folds = IntervalFolds::kNarrower;
-  const auto by_default = train_fnn<1, 3, 2>(d.x, d.y, options);
+  const auto [ridge, served, by_default] = train_with_each_fold_kind(d, options);
   ASSERT_TRUE(ridge.summary.usable()) << ridge.summary.message;
   EXPECT_EQ(ridge.model.params.values, served.model.params.values);
   EXPECT_EQ(ridge.model.params.values, by_default.model.params.values);
@@ -898,29 +923,15 @@ TEST(FnnTrainerInterval, GradientDescentIsCalibratedOnItsOwnFoldModels) {
   // Fresh moves: the GD folds' interval covers about its 95 % on both outputs; the ridge
   // folds' one, calibrated on far better fits, covers much less of the GD model's error.
   // Measured: GD folds covered 88.5-99.9 % (seeds 1-40), ridge folds 75.4-88.6 % (seeds 1-20).
-  Rng rng{test::seed() + 65};
-  std::array<int, 2> covered_served{}, covered_ridge{};
   const int n = 4000;
-  for (int k = 0; k < n; ++k) {
-    const double u = rng.uniform();
-    const std::array<double, 1> at{10.0 + 90.0 * u};
-    const std::array<double, 2> y{bump_mean(u) + 0.2 * rng.normal(), 2.0 * u + 0.2 * rng.normal()};
-    std::array<double, 2> predicted{};
-    ASSERT_TRUE(ok(fuzzy::evaluate(served.model, at, predicted, fuzzy::DomainPolicy::kClamp)));
-    std::array<double, 2> u_served{}, u_ridge{};
-    fuzzy::interval_half_widths_at(served.interval, served.model.ranges, at, u_served);
-    fuzzy::interval_half_widths_at(ridge.interval, ridge.model.ranges, at, u_ridge);
-    for (std::size_t o = 0; o < 2; ++o) {
-      covered_served[o] += std::abs(y[o] - predicted[o]) <= u_served[o] ? 1 : 0;
-      covered_ridge[o] += std::abs(y[o] - predicted[o]) <= u_ridge[o] ? 1 : 0;
-    }
-  }
+  const FreshCoverage covered = coverage_on_fresh_moves(
+      served.model, served.interval, ridge.interval, test::seed() + 65, n, 2);
   for (std::size_t o = 0; o < 2; ++o) {
-    EXPECT_GT(covered_served[o], 0.85 * n) << "output " << o;
-    EXPECT_LT(covered_served[o], 0.999 * n) << "output " << o;
+    EXPECT_GT(covered.served[o], 0.85 * n) << "output " << o;
+    EXPECT_LT(covered.served[o], 0.999 * n) << "output " << o;
   }
-  EXPECT_LT(covered_ridge[0], 0.90 * n);
-  EXPECT_GT(covered_served[0], covered_ridge[0] + 0.04 * n);
+  EXPECT_LT(covered.ridge[0], 0.90 * n);
+  EXPECT_GT(covered.served[0], covered.ridge[0] + 0.04 * n);
 }
 
 TEST(FnnTrainerInterval, RejectsAnIntervalFoldsValueOutsideTheEnum) {
