@@ -13,7 +13,11 @@
 # network's known limit, docs/training.md: if it is met, the docs must change), and the default
 # model loses on the two variants that change the dynamics (mode, drag): a mean residual at
 # least 1.5 x the own model's in some parameter.
-# Usage: bash scripts/cross-machine.sh [--check] [WORK]   (needs the release tools built)
+# --plan lhsN plans N Latin-hypercube moves (one each) instead of the paper's L18 x 3; with
+# --check it then requires all four reductions, RPE's included (docs/training.md, "What the L18
+# cannot carry").
+# Usage: bash scripts/cross-machine.sh [--plan l18x3|lhsN] [--check] [WORK]
+#        (needs the release tools built)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${CMMCOMP_BIN:-$here/build/release/tools}"
@@ -23,6 +27,22 @@ measure="$bin/cmmcomp-measure/cmmcomp-measure"
 # shellcheck source=lib/tool-script.sh
 source "$here/scripts/lib/tool-script.sh"
 require_tools cross-machine "$sim" "$train" "$measure"
+plan=(--design l18 --repeats 3)
+rpe_expected=miss
+if [ "${1:-}" = "--plan" ]; then
+  case "${2:-}" in
+    l18x3) ;;
+    lhs[0-9]*)
+      plan=(--design lhs --samples "${2#lhs}" --repeats 1)
+      rpe_expected=meet
+      ;;
+    *)
+      echo "cross-machine: --plan takes l18x3 or lhsN (N moves), not '${2:-}'" >&2
+      exit 2
+      ;;
+  esac
+  shift 2
+fi
 parse_check_and_work "$@"
 
 # `cmmcomp-train eval --json` -> "reduction % (mean |residual|)" for MPE, RPE, MAE, RAE.
@@ -44,7 +64,7 @@ echo "| machine | extracted | own model: reduction % (mean |residual| µm) MPE |
 for name in default variant-mode-20 variant-drag+30 variant-y-participation+30; do
   machine="$here/data/machines/$name.toml"
   dir="$work/$name"
-  "$measure" plan --design l18 --repeats 3 --seed 1 -o "$dir" > /dev/null
+  "$measure" plan "${plan[@]}" --seed 1 -o "$dir" > /dev/null
   "$sim" record --plan "$dir/plan.csv" --machine "$machine" --two-clocks --clock-offset-ms 37 \
     --drift-ppm 100 --controller-rate 1000 --tracker-rate 2000 --white-noise-um 0.3 \
     --pink-noise-um 0.2 --seed 1 -o "$dir/rec" > /dev/null
@@ -68,8 +88,13 @@ for name in default variant-mode-20 variant-drag+30 variant-y-participation+30; 
         fail "$name: own model $p reduction $got % < the paper's $target %"
     done
     got=$(value "$dir/own.json" rpe reduction_pct)
-    awk -v g="$got" 'BEGIN { exit !(g < 90.8) }' ||
-      fail "$name: RPE reduction $got % now meets the paper's 90.8 %: update docs/training.md"
+    if [ $rpe_expected = meet ]; then
+      awk -v g="$got" 'BEGIN { exit !(g >= 90.8) }' ||
+        fail "$name: own model rpe reduction $got % < the paper's 90.8 %"
+    else
+      awk -v g="$got" 'BEGIN { exit !(g < 90.8) }' ||
+        fail "$name: RPE reduction $got % now meets the paper's 90.8 %: update docs/training.md"
+    fi
     if [ "$name" = variant-mode-20 ] || [ "$name" = variant-drag+30 ]; then
       worse=0
       for p in mpe rpe mae rae; do
