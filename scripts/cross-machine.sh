@@ -28,19 +28,21 @@ measure="$bin/cmmcomp-measure/cmmcomp-measure"
 source "$here/scripts/lib/tool-script.sh"
 require_tools cross-machine "$sim" "$train" "$measure"
 plan=(--design l18 --repeats 3)
+# The paper's Table 5 reductions (data/paper) each own model must meet; L18 x 3 is known to miss
+# RPE's 90.8 % (docs/training.md), a space-filling plan must meet it too.
+targets="mpe:88.8 mae:80.2 rae:71.3"
 rpe_expected=miss
 if [ "${1:-}" = "--plan" ]; then
-  case "${2:-}" in
-    l18x3) ;;
-    lhs[0-9]*)
-      plan=(--design lhs --samples "${2#lhs}" --repeats 1)
-      rpe_expected=meet
-      ;;
-    *)
-      echo "cross-machine: --plan takes l18x3 or lhsN (N moves), not '${2:-}'" >&2
-      exit 2
-      ;;
-  esac
+  if [ "${2:-}" = l18x3 ]; then
+    :
+  elif [[ "${2:-}" =~ ^lhs([0-9]+)$ ]]; then
+    plan=(--design lhs --samples "${BASH_REMATCH[1]}" --repeats 1)
+    targets="$targets rpe:90.8"
+    rpe_expected=meet
+  else
+    echo "cross-machine: --plan takes l18x3 or lhsN (N moves), not '${2:-}'" >&2
+    exit 2
+  fi
   shift 2
 fi
 parse_check_and_work "$@"
@@ -80,18 +82,14 @@ for name in default variant-mode-20 variant-drag+30 variant-y-participation+30; 
   extracted=$(sed -n 's/^extracted \([0-9]*\) of \([0-9]*\).*/\1\/\2/p' "$dir/extract.txt")
   echo "| $name | $extracted | $(summary "$dir/own.json") | $(summary "$dir/default.json") |"
   if [ $check = 1 ]; then
-    # The paper's Table 5 reductions (data/paper: MPE 88.8, RPE 90.8, MAE 80.2, RAE 71.3 %).
-    for pair in mpe:88.8 mae:80.2 rae:71.3; do
+    for pair in $targets; do
       p=${pair%%:*} target=${pair#*:}
       got=$(value "$dir/own.json" "$p" reduction_pct)
       awk -v g="$got" -v t="$target" 'BEGIN { exit !(g >= t) }' ||
         fail "$name: own model $p reduction $got % < the paper's $target %"
     done
-    got=$(value "$dir/own.json" rpe reduction_pct)
-    if [ $rpe_expected = meet ]; then
-      awk -v g="$got" 'BEGIN { exit !(g >= 90.8) }' ||
-        fail "$name: own model rpe reduction $got % < the paper's 90.8 %"
-    else
+    if [ $rpe_expected = miss ]; then
+      got=$(value "$dir/own.json" rpe reduction_pct)
       awk -v g="$got" 'BEGIN { exit !(g < 90.8) }' ||
         fail "$name: RPE reduction $got % now meets the paper's 90.8 %: update docs/training.md"
     fi
