@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "ceres_progress.hpp"
+#include "fnn_prior.hpp"
 
 namespace cmmcomp::training {
 
@@ -145,6 +146,7 @@ class Trainer {
           const FnnTrainingOptions& options)
       : raw_inputs_(inputs), raw_targets_(targets), options_(options) {
     check_and_normalise();
+    choose_prior();
   }
 
   FnnTrainingResult<kInputs, kSets, kOutputs> run() {
@@ -173,17 +175,18 @@ class Trainer {
     for (int o = 0; o < kOutputs; ++o) {
       s.cv_rmse.push_back(std::sqrt(sse(static_cast<Index>(best), o) / n_) * scale_[sz(o)]);
     }
-    const MatrixXd g = global_linear_fit(u, z_);  // kTerms × kOutputs
-    prior_.assign(static_cast<std::size_t>(kOutputs * kTerms), 0.0);
+    const MatrixXd prior = rule_prior(all_samples(), u);  // kBlock × kOutputs
+    prior_.assign(static_cast<std::size_t>(kOutputs * kBlock), 0.0);
     for (int o = 0; o < kOutputs; ++o) {
-      for (int t = 0; t < kTerms; ++t) prior_[sz(o * kTerms + t)] = g(t, o);
+      for (int k = 0; k < kBlock; ++k) prior_[sz(o * kBlock + k)] = prior(k, o);
     }
-    const RidgeDual ridge(phi, z_ - u * g);
-    const MatrixXd p0 = ridge.consequents(s.lambda);  // kBlock × kOutputs, deviations from g
+    for (int o = 0; o < kOutputs; ++o) s.prior.push_back(shapes_[sz(o)].describe(names()));
+    s.design_points = groups_;
+    const RidgeDual ridge(phi, z_ - phi * prior);
+    const MatrixXd p0 = ridge.consequents(s.lambda);  // kBlock × kOutputs, deviations from it
     std::vector<double> consequents(static_cast<std::size_t>(kOutputs * kBlock));
     for (int o = 0; o < kOutputs; ++o) {
-      for (int k = 0; k < kBlock; ++k)
-        consequents[sz(o * kBlock + k)] = g(k % kTerms, o) + p0(k, o);
+      for (int k = 0; k < kBlock; ++k) consequents[sz(o * kBlock + k)] = prior(k, o) + p0(k, o);
     }
     const Model init = make_model(premise, consequents);
     s.init_train_rmse = train_rmse(init);
@@ -291,6 +294,87 @@ class Trainer {
     return premise;
   }
 
+  std::vector<std::string> names() const {
+    std::vector<std::string> out;
+    for (int i = 0; i < kInputs; ++i) {
+      out.push_back(options_.input_names.size() == static_cast<std::size_t>(kInputs)
+                        ? options_.input_names[sz(i)]
+                        : "x" + std::to_string(i));
+    }
+    return out;
+  }
+
+  std::vector<Index> all_samples() const {
+    std::vector<Index> all(x_.size());
+    for (std::size_t k = 0; k < x_.size(); ++k) all[k] = static_cast<Index>(k);
+    return all;
+  }
+
+  /// Design points (samples with identical inputs), and the prior's shape per output (step 3):
+  /// on a designed experiment, every input at three levels, the shape with the lowest
+  /// leave-one-design-point-out error (fnn_prior.hpp); otherwise the global first-order fit.
+  void choose_prior() {
+    const std::size_t n = x_.size();
+    group_.assign(n, 0);
+    std::vector<std::size_t> first;  // a representative sample of each design point
+    for (std::size_t k = 0; k < n; ++k) {
+      std::size_t g = 0;
+      while (g < first.size() && raw_inputs_[first[g]] != raw_inputs_[k]) ++g;
+      if (g == first.size()) first.push_back(k);
+      group_[k] = g;
+    }
+    groups_ = first.size();
+    bool three_levels = true;
+    for (int i = 0; i < kInputs && three_levels; ++i) {
+      std::vector<double> levels;
+      for (const std::size_t k : first) levels.push_back(raw_inputs_[k][sz(i)]);
+      std::sort(levels.begin(), levels.end());
+      three_levels = std::unique(levels.begin(), levels.end()) - levels.begin() == 3;
+    }
+    xm_.resize(static_cast<Index>(n), kInputs);
+    for (std::size_t k = 0; k < n; ++k) {
+      for (int i = 0; i < kInputs; ++i) xm_(static_cast<Index>(k), i) = x_[k][sz(i)];
+    }
+    const std::vector<detail::PriorShape> candidates = detail::prior_candidates(kInputs);
+    shapes_.assign(static_cast<std::size_t>(kOutputs), candidates.front());
+    if (!three_levels) return;
+    for (int o = 0; o < kOutputs; ++o) {
+      shapes_[sz(o)] = detail::choose_prior_shape(xm_, z_.col(o), group_, groups_);
+    }
+  }
+
+  /// The prior's consequents (kBlock × kOutputs) fitted to the samples `idx`: for a first-order
+  /// shape the global first-order fit g in every rule; otherwise, in each rule, the tangent
+  /// plane of the fitted shape at the rule's centre (the initial premise's), so the network
+  /// starts as the shape, smoothed between the centres.
+  MatrixXd rule_prior(const std::vector<Index>& idx, const MatrixXd& u) const {
+    MatrixXd prior(kBlock, kOutputs);
+    const MatrixXd g = global_linear_fit(rows(u, idx), rows(z_, idx));  // kTerms × kOutputs
+    const double spacing = kSets > 1 ? 1.0 / (kSets - 1) : 1.0;
+    for (int o = 0; o < kOutputs; ++o) {
+      const detail::PriorShape& shape = shapes_[sz(o)];
+      if (shape.first_order()) {
+        for (int k = 0; k < kBlock; ++k) prior(k, o) = g(k % kTerms, o);
+        continue;
+      }
+      const Eigen::VectorXd b = detail::fit_prior(shape, xm_, z_.col(o), idx);
+      for (int j = 0; j < kRules; ++j) {
+        std::array<double, kInputs> c{};
+        for (int i = 0; i < kInputs; ++i) {
+          c[sz(i)] = kSets > 1 ? Layout::rule_set(j, i) * spacing : 0.5;
+        }
+        double p0 = detail::prior_features(shape, c.data()).dot(b);
+        for (int i = 0; i < kInputs; ++i) {
+          const double slope = detail::prior_feature_slopes(shape, c.data(), i).dot(b);
+          prior(j * kTerms + 1 + i, o) = slope;
+          p0 -= slope * c[sz(i)];
+        }
+        prior(j * kTerms, o) = p0;
+      }
+    }
+    return prior;
+  }
+
   /// U (N × kTerms): row n = [1, x_n], the regressors of the global first-order model.
   MatrixXd linear_terms() const {
     MatrixXd u(static_cast<Index>(x_.size()), kTerms);
@@ -339,13 +423,14 @@ class Trainer {
       std::vector<Index> train, test;
       for (std::size_t k = 0; k < n; ++k)
         (fold_of[k] == f ? test : train).push_back(static_cast<Index>(k));
-      const MatrixXd phi_tr = rows(phi, train), z_tr = rows(z_, train), u_tr = rows(u, train);
-      const MatrixXd phi_te = rows(phi, test), z_te = rows(z_, test), u_te = rows(u, test);
-      // The prior is refitted on the fold's training part too, so CV scores the whole fit.
-      const MatrixXd prior = global_linear_fit(u_tr, z_tr);
-      const RidgeDual ridge(phi_tr, z_tr - u_tr * prior);
+      const MatrixXd phi_tr = rows(phi, train), z_tr = rows(z_, train);
+      const MatrixXd phi_te = rows(phi, test), z_te = rows(z_, test);
+      // The prior is refitted on the fold's training part too, so CV scores the whole fit
+      // (its shapes stay those chosen on all the data).
+      const MatrixXd prior = rule_prior(train, u);
+      const RidgeDual ridge(phi_tr, z_tr - phi_tr * prior);
       const MatrixXd cross = phi_te * phi_tr.transpose();
-      const MatrixXd base = u_te * prior;
+      const MatrixXd base = phi_te * prior;
       for (std::size_t g = 0; g < grid.size(); ++g) {
         const MatrixXd err = base + cross * ridge.dual(grid[g]) - z_te;
         sse.row(static_cast<Index>(g)) += err.colwise().squaredNorm();
@@ -361,10 +446,10 @@ class Trainer {
                          const std::vector<Index>& train,
                          const std::vector<Index>& test,
                          double lambda) const {
-    const MatrixXd phi_tr = rows(phi, train), z_tr = rows(z_, train), u_tr = rows(u, train);
-    const MatrixXd prior = global_linear_fit(u_tr, z_tr);
-    const RidgeDual ridge(phi_tr, z_tr - u_tr * prior);
-    return rows(u, test) * prior + rows(phi, test) * phi_tr.transpose() * ridge.dual(lambda);
+    const MatrixXd phi_tr = rows(phi, train), z_tr = rows(z_, train);
+    const MatrixXd prior = rule_prior(train, u);
+    const RidgeDual ridge(phi_tr, z_tr - phi_tr * prior);
+    return rows(phi, test) * (prior + phi_tr.transpose() * ridge.dual(lambda));
   }
 
   /// Step 7: the prediction interval's calibration (fuzzy/prediction_interval.hpp).
@@ -390,16 +475,8 @@ class Trainer {
     const double c = options_.interval_coverage;
     if (c == 0.0) return;
     const std::size_t n = x_.size();
-    // Design points: samples with identical inputs.
-    std::vector<std::size_t> group(n);
-    std::vector<std::size_t> first;  // a representative sample of each group
-    for (std::size_t k = 0; k < n; ++k) {
-      std::size_t g = 0;
-      while (g < first.size() && raw_inputs_[first[g]] != raw_inputs_[k]) ++g;
-      if (g == first.size()) first.push_back(k);
-      group[k] = g;
-    }
-    const std::size_t groups = first.size();
+    const std::vector<std::size_t>& group = group_;  // design points: identical inputs
+    const std::size_t groups = groups_;
     if (groups < 2) return;  // nothing to hold out: no calibration
     const std::size_t folds = std::min(groups, static_cast<std::size_t>(options_.folds));
     std::vector<std::size_t> order(groups);
@@ -627,7 +704,7 @@ class Trainer {
     }
     if (lambda > 0.0) {
       for (int b = 0; b < kOutputs * kRules; ++b) {
-        const double* prior = prior_.data() + (b / kRules) * kTerms;
+        const double* prior = prior_.data() + b * kTerms;
         problem.AddResidualBlock(
             new RidgeCost<kTerms>(lambda, prior), nullptr, consequents.data() + b * kTerms);
       }
@@ -639,6 +716,17 @@ class Trainer {
               TrainingSummary& s) const {
     if (options_.max_iterations == 0) {
       s.message = "ridge initialisation only (max_iterations = 0)";
+      s.solution_usable = true;
+      s.converged = true;
+      return;
+    }
+    if (groups_ <= static_cast<std::size_t>(kPremise)) {
+      // Fewer design points than premise parameters: the data cannot place the centres and
+      // widths, and moving them to fit the few points bends the network between them (on the
+      // paper's L18 it cost RPE 3-5 points of reduction, docs/training.md).
+      s.message = "ridge initialisation kept: " + std::to_string(groups_) +
+                  " design points cannot place the premise's " + std::to_string(kPremise) +
+                  " centres and widths";
       s.solution_usable = true;
       s.converged = true;
       return;
@@ -759,7 +847,13 @@ class Trainer {
   std::vector<std::array<double, kInputs>> x_;  ///< normalised inputs
   MatrixXd z_;                                  ///< normalised targets, N × kOutputs
   std::array<double, kOutputs> mean_{}, scale_{};
-  std::vector<double> prior_;  ///< global linear fit per output, kTerms each (normalised units)
+  /// Samples with identical inputs form a design point: group_[k] is sample k's, of groups_.
+  std::vector<std::size_t> group_;
+  std::size_t groups_ = 0;
+  MatrixXd xm_;                             ///< x_ as an N × kInputs matrix
+  std::vector<detail::PriorShape> shapes_;  ///< the prior's shape per output (step 3)
+  /// The prior's consequents, rule-major per output as `consequents` (normalised units).
+  std::vector<double> prior_;
 };
 
 }  // namespace

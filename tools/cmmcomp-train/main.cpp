@@ -97,6 +97,11 @@ int run_fit(const FitCommand& cmd) {
               s.iterations,
               s.initial_cost,
               s.final_cost);
+  std::printf("prior (%zu design points):", s.design_points);
+  for (std::size_t o = 0; o < s.prior.size() && o < 4; ++o) {
+    std::printf("%s %s %s", o ? "," : "", cmmcomp::kErrors[o].label, s.prior[o].c_str());
+  }
+  std::printf("\n");
   // The interval's columns are named by its coverage: U95 at the default 0.95.
   const std::string u_name = fmt::format("U{:g}", 100.0 * cmd.interval_coverage);
   std::printf("%-6s %14s %14s %14s %14s %12s %12s %10s\n",

@@ -167,7 +167,10 @@ struct TrainingSummary {
   std::vector<double> init_train_rmse;  ///< ridge initialisation on the training data
   std::vector<double> train_rmse;       ///< returned model on the training data
   std::vector<double> cv_rmse;          ///< k-fold CV of the ridge initialisation at `lambda`
-  std::size_t interval_samples = 0;     ///< samples the interval was calibrated on (0: none)
+  /// The prior's shape per output (step 3), e.g. "first-order", "quadratic(PV×PD)".
+  std::vector<std::string> prior;
+  std::size_t design_points = 0;     ///< distinct input vectors in the training data
+  std::size_t interval_samples = 0;  ///< samples the interval was calibrated on (0: none)
   /// Per output, the fold models its half-width and corner gain came from (kRidge or
   /// kAsServed; empty when not calibrated).
   std::vector<IntervalFolds> interval_folds;
