@@ -80,7 +80,9 @@ inline Eigen::VectorXd prior_features(const PriorShape& shape, const double* x) 
 inline Eigen::VectorXd prior_feature_slopes(const PriorShape& shape, const double* x, int input) {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(shape.terms());
   const int tensor = shape.terms() - static_cast<int>(shape.linear.size());
-  for (int t = 0; t < tensor; ++t) {
+  const bool in_tensor =
+      std::find(shape.quadratic.begin(), shape.quadratic.end(), input) != shape.quadratic.end();
+  for (int t = 0; in_tensor && t < tensor; ++t) {
     double v = 1.0;
     int code = t;
     for (const int i : shape.quadratic) {
