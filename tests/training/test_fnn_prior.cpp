@@ -35,7 +35,7 @@ Eigen::MatrixXd l18_inputs(int repeats, std::vector<std::size_t>* group) {
 }
 
 /// A response of the first two inputs only, bent like the twin's RPE along a diagonal.
-double bent(double u0, double u1) { return 6.0 + 4.0 * u0 + 6.0 / (1.0 + 8.0 * (u1 - u0 + 0.5)); }
+double bent(double u0, double u1) { return 6.0 + 4.0 * u0 + 6.0 / (1.0 + 4.0 * (u1 - u0 + 1.0)); }
 
 TEST(FnnPrior, CandidatesStartWithTheGlobalFirstOrderFitAndCoverEveryInputAndPair) {
   const auto c = prior_candidates(4);
