@@ -6,7 +6,8 @@
 set -euo pipefail
 replay="$1"; recording="$2"; model="$3"; work="$4"; line="$5"; byte="$6"; field="$7"
 mkdir -p "$work"
-altered="$work/altered-$(basename "$recording")"
+# One file per (line, byte): the CAN tests alter the same recording and may run in parallel.
+altered="$work/altered-l${line}b${byte}-$(basename "$recording")"
 # Flip the lowest bit of the byte, keeping the file's hex case (bash only: no gawk needed).
 flip() { local v=$(( 16#$1 ^ 1 )); if [[ "$1" =~ [A-F] || "$2" = upper ]]; then printf '%02X' "$v"; else printf '%02x' "$v"; fi; }
 text="$(sed -n "${line}p" "$recording")"
