@@ -151,27 +151,54 @@ inline std::vector<PriorShape> prior_candidates(int inputs) {
   return out;
 }
 
-/// Sum of squared errors of `shape` over every sample when each design point (`group` of every
-/// sample, 0 … groups − 1) is predicted from the others: leave-one-design-point-out CV, which
-/// asks of a shape what the network's prior must do, predict moves the design did not run.
-/// Infinite when a held-out fit has fewer design points than the shape has terms.
+/// Whether the samples `rows` pin every term of `shape`: its regressors over them have full
+/// column rank. A tensor quadratic over two inputs needs all nine cells of their levels; a
+/// held-out fold of an L18 can empty one, and a quadratic along an input of which only two
+/// levels are left is not determined at all. The tiny ridge of fit_prior would then make up
+/// the missing cell, and the fit would predict it wildly.
+inline bool prior_identifiable(const PriorShape& shape,
+                               const Eigen::MatrixXd& x,
+                               const std::vector<Eigen::Index>& rows) {
+  const int m = shape.terms();
+  if (rows.size() < static_cast<std::size_t>(m)) return false;
+  Eigen::MatrixXd f(static_cast<Eigen::Index>(rows.size()), m);
+  Eigen::VectorXd xr(x.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    xr = x.row(rows[k]).transpose();
+    f.row(static_cast<Eigen::Index>(k)) = prior_features(shape, xr.data()).transpose();
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(f);
+  qr.setThreshold(1e-8);
+  return qr.rank() == m;
+}
+
+/// Sum of squared errors of `shape` over the samples `rows` when each of their design points
+/// (`group` of every sample, 0 … groups − 1) is predicted from the others in `rows`:
+/// leave-one-design-point-out CV, which asks of a shape what the network's prior must do,
+/// predict moves the design did not run. Infinite when a held-out fit cannot pin every term
+/// (prior_identifiable).
 inline double leave_one_point_out_sse(const PriorShape& shape,
                                       const Eigen::MatrixXd& x,
                                       const Eigen::VectorXd& z,
                                       const std::vector<std::size_t>& group,
-                                      std::size_t groups) {
-  if (groups < 2 || groups - 1 < static_cast<std::size_t>(shape.terms())) {
-    return std::numeric_limits<double>::infinity();
-  }
+                                      std::size_t groups,
+                                      const std::vector<Eigen::Index>& rows) {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  std::vector<bool> present(groups, false);
+  for (const Eigen::Index r : rows) present[group[static_cast<std::size_t>(r)]] = true;
+  const auto points = static_cast<std::size_t>(std::count(present.begin(), present.end(), true));
+  if (points < 2 || points - 1 < static_cast<std::size_t>(shape.terms())) return kNone;
   double sse = 0.0;
   std::vector<Eigen::Index> train, test;
   Eigen::VectorXd xr(x.cols());
   for (std::size_t g = 0; g < groups; ++g) {
+    if (!present[g]) continue;
     train.clear();
     test.clear();
-    for (std::size_t k = 0; k < group.size(); ++k) {
-      (group[k] == g ? test : train).push_back(static_cast<Eigen::Index>(k));
+    for (const Eigen::Index r : rows) {
+      (group[static_cast<std::size_t>(r)] == g ? test : train).push_back(r);
     }
+    if (!prior_identifiable(shape, x, train)) return kNone;
     const Eigen::VectorXd b = fit_prior(shape, x, z, train);
     for (const Eigen::Index r : test) {
       xr = x.row(r).transpose();
@@ -182,23 +209,49 @@ inline double leave_one_point_out_sse(const PriorShape& shape,
   return sse;
 }
 
-/// The shape with the lowest leave-one-design-point-out error (ties, within 1e-9 relative: the
-/// simpler, earlier candidate), from prior_candidates().
+/// The shape with the lowest leave-one-design-point-out error over the samples `rows` (ties,
+/// within 1e-9 relative: the simpler, earlier candidate), from prior_candidates(); the
+/// first-order fit when no other candidate can be judged.
 inline PriorShape choose_prior_shape(const Eigen::MatrixXd& x,
                                      const Eigen::VectorXd& z,
                                      const std::vector<std::size_t>& group,
-                                     std::size_t groups) {
+                                     std::size_t groups,
+                                     const std::vector<Eigen::Index>& rows) {
   const std::vector<PriorShape> candidates = prior_candidates(static_cast<int>(x.cols()));
   std::size_t best = 0;
-  double best_sse = leave_one_point_out_sse(candidates[0], x, z, group, groups);
+  double best_sse = leave_one_point_out_sse(candidates[0], x, z, group, groups, rows);
   for (std::size_t c = 1; c < candidates.size(); ++c) {
-    const double sse = leave_one_point_out_sse(candidates[c], x, z, group, groups);
+    const double sse = leave_one_point_out_sse(candidates[c], x, z, group, groups, rows);
     if (sse < best_sse * (1.0 - 1e-9)) {
       best = c;
       best_sse = sse;
     }
   }
   return candidates[best];
+}
+
+/// Every sample's row index, 0 … n − 1.
+inline std::vector<Eigen::Index> all_rows(Eigen::Index n) {
+  std::vector<Eigen::Index> rows(static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < n; ++k) rows[static_cast<std::size_t>(k)] = k;
+  return rows;
+}
+
+/// leave_one_point_out_sse over every sample.
+inline double leave_one_point_out_sse(const PriorShape& shape,
+                                      const Eigen::MatrixXd& x,
+                                      const Eigen::VectorXd& z,
+                                      const std::vector<std::size_t>& group,
+                                      std::size_t groups) {
+  return leave_one_point_out_sse(shape, x, z, group, groups, all_rows(x.rows()));
+}
+
+/// choose_prior_shape over every sample.
+inline PriorShape choose_prior_shape(const Eigen::MatrixXd& x,
+                                     const Eigen::VectorXd& z,
+                                     const std::vector<std::size_t>& group,
+                                     std::size_t groups) {
+  return choose_prior_shape(x, z, group, groups, all_rows(x.rows()));
 }
 
 }  // namespace cmmcomp::training::detail

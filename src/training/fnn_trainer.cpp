@@ -304,11 +304,7 @@ class Trainer {
     return out;
   }
 
-  std::vector<Index> all_samples() const {
-    std::vector<Index> all(x_.size());
-    for (std::size_t k = 0; k < x_.size(); ++k) all[k] = static_cast<Index>(k);
-    return all;
-  }
+  std::vector<Index> all_samples() const { return detail::all_rows(static_cast<Index>(x_.size())); }
 
   /// Design points (samples with identical inputs), and the prior's shape per output (step 3):
   /// on a designed experiment, every input at three levels, the shape with the lowest
@@ -347,12 +343,20 @@ class Trainer {
   /// shape the global first-order fit g in every rule; otherwise, in each rule, the tangent
   /// plane of the fitted shape at the rule's centre (the initial premise's), so the network
   /// starts as the shape, smoothed between the centres.
+  /// On a part of the data (a CV fold, a held-out end) an output whose shape is not the
+  /// first-order fit chooses its shape again from that part, as the whole fit would have had
+  /// it been given only that part: a fold may lack a cell of the chosen pair or a level of an
+  /// input, and the calibrated interval must score the fit, not a made-up cell.
   MatrixXd rule_prior(const std::vector<Index>& idx, const MatrixXd& u) const {
     MatrixXd prior(kBlock, kOutputs);
     const MatrixXd g = global_linear_fit(rows(u, idx), rows(z_, idx));  // kTerms × kOutputs
     const double spacing = kSets > 1 ? 1.0 / (kSets - 1) : 1.0;
+    const bool part = idx.size() != x_.size();
     for (int o = 0; o < kOutputs; ++o) {
-      const detail::PriorShape& shape = shapes_[sz(o)];
+      const detail::PriorShape shape =
+          part && !detail::prior_identifiable(shapes_[sz(o)], xm_, idx)
+              ? detail::choose_prior_shape(xm_, z_.col(o), group_, groups_, idx)
+              : shapes_[sz(o)];
       if (shape.first_order()) {
         for (int k = 0; k < kBlock; ++k) prior(k, o) = g(k % kTerms, o);
         continue;
@@ -425,8 +429,8 @@ class Trainer {
         (fold_of[k] == f ? test : train).push_back(static_cast<Index>(k));
       const MatrixXd phi_tr = rows(phi, train), z_tr = rows(z_, train);
       const MatrixXd phi_te = rows(phi, test), z_te = rows(z_, test);
-      // The prior is refitted on the fold's training part too, so CV scores the whole fit
-      // (its shapes stay those chosen on all the data).
+      // The prior is refitted, and its shape chosen again, on the fold's training part too,
+      // so CV scores the whole fit.
       const MatrixXd prior = rule_prior(train, u);
       const RidgeDual ridge(phi_tr, z_tr - phi_tr * prior);
       const MatrixXd cross = phi_te * phi_tr.transpose();

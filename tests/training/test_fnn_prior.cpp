@@ -151,5 +151,39 @@ TEST(FnnPrior, AShapeWithMoreTermsThanHeldOutFitsCanPinIsNeverChosen) {
   EXPECT_NE(choose_prior_shape(x, z, group, 9).quadratic, (std::vector<int>{0, 1}));
 }
 
+TEST(FnnPrior, APartOfTheL18WithoutACellOfThePairCannotPinThePairOrChooseIt) {
+  // The L18 runs every (PV, PD) cell twice; a CV fold without both runs of one cell, or a
+  // held-out end with only two PV levels left, cannot determine the pair's quadratic, and a
+  // shape chosen on that part must be one it can.
+  std::vector<std::size_t> group;
+  const Eigen::MatrixXd x = l18_inputs(3, &group);
+  cmmcomp::detail::SplitMix64 rng{test::seed() + 4};
+  Eigen::VectorXd z(x.rows());
+  for (Eigen::Index k = 0; k < x.rows(); ++k) {
+    z(k) = bent(x(k, 0), x(k, 1)) + 0.1 * rng.normal();
+  }
+  const PriorShape pair{{0, 1}, {}};
+  const std::vector<Eigen::Index> all = all_rows(x.rows());
+  EXPECT_TRUE(prior_identifiable(pair, x, all));
+  std::vector<Eigen::Index> no_cell, no_high_pv;
+  for (const Eigen::Index k : all) {
+    if (!(x(k, 0) == 1.0 && x(k, 1) == 1.0)) no_cell.push_back(k);
+    if (x(k, 0) < 1.0) no_high_pv.push_back(k);
+  }
+  ASSERT_LT(no_cell.size(), all.size());
+  EXPECT_FALSE(prior_identifiable(pair, x, no_cell));
+  EXPECT_FALSE(prior_identifiable(pair, x, no_high_pv));
+  EXPECT_FALSE(prior_identifiable(PriorShape{{0}, {1, 2, 3}}, x, no_high_pv));
+  EXPECT_TRUE(prior_identifiable(PriorShape{{1}, {0, 2, 3}}, x, no_high_pv));
+  for (const auto* part : {&no_cell, &no_high_pv}) {
+    const PriorShape chosen = choose_prior_shape(x, z, group, 18, *part);
+    EXPECT_TRUE(prior_identifiable(chosen, x, *part)) << chosen.describe({});
+    EXPECT_TRUE(std::isfinite(leave_one_point_out_sse(chosen, x, z, group, 18, *part)))
+        << chosen.describe({});
+  }
+  // On all the data the pair is still the choice.
+  EXPECT_EQ(choose_prior_shape(x, z, group, 18, all).quadratic, (std::vector<int>{0, 1}));
+}
+
 }  // namespace
 }  // namespace cmmcomp::training::detail

@@ -13,15 +13,21 @@
 ///     (0, 0.5, 1 for 3 sets; 0.5 for one set), every width σ = the centre spacing (a neighbour's
 ///     centre gets μ = e⁻¹; σ = 1 for one set). The consequents are then linear in the output:
 ///     they come from a ridge least-squares solve with the premise fixed that shrinks every
-///     rule towards the **global first-order fit** g (least squares of z on [1, x]), not
-///     towards zero: p = g + Φᵀ(ΦΦᵀ + λI)⁻¹(z − Ug) (Eigen, dual form; Φ the N ×
-///     kRules·(kInputs+1) matrix of ᾱ_j·[1, x], U the N × (kInputs+1) matrix of [1, x]).
+///     rule towards a **prior** rather than towards zero: p = p₀ + Φᵀ(ΦΦᵀ + λI)⁻¹(z − Φp₀)
+///     (Eigen, dual form; Φ the N × kRules·(kInputs+1) matrix of ᾱ_j·[1, x]). The prior p₀ is,
+///     per output, the global first-order fit g (least squares of z on [1, x]) in every rule,
+///     or — when every input of the data sits on exactly three levels, a designed experiment —
+///     the shape chosen by leave-one-design-point-out CV among g and tensor quadratics over one
+///     or two inputs (with or without first-order terms in the others), put into each rule as
+///     the shape's tangent plane at the rule's centre (src/training/fnn_prior.hpp).
 ///     Why: 54 samples of 18 distinct moves cannot pin down 405 consequents per output; between
 ///     the training moves a ridge towards zero pulls the prediction towards the mean, a ridge
 ///     towards g falls back on the best first-order model (Σᾱ = 1, so rules all equal to g
-///     give exactly g·[1, x]). On the default twin this halved the test residual of MPE and
-///     RPE (docs/fuzzy-network.md, "Accuracy"). This alone is already a good model
-///     (`max_iterations = 0` stops here).
+///     give exactly g·[1, x]). On the default twin g halved the test residual of MPE and RPE
+///     against a ridge towards zero; on the paper's L18 the quadratic through the nine
+///     (PV, PD) cell means, which is what an ANOVA reads off the design, raised RPE's test
+///     reduction from 87–88 % to 91.5–92.7 % (docs/training.md, "The prior"). This alone is
+///     already a good model (`max_iterations = 0` stops here).
 ///  4. **Chooses λ** (options.lambda < 0) by k-fold cross-validation over `lambda_grid`: folds
 ///     from a seeded shuffle; inside CV the premise stays at the initialisation and only the
 ///     ridge consequents and g are refitted per fold (one eigen-decomposition of the fold's N×N
@@ -29,8 +35,13 @@
 ///     error, averaged over the outputs in normalised units, wins (ties: the larger λ). CV RMSE
 ///     per output at the λ used is reported in raw units; it scores the ridge initialisation,
 ///     not the LM-refined model. A fixed λ ≥ 0 skips the choice but is still cross-validated.
-///  5. **Refines** with Levenberg–Marquardt on all data at that λ (method kLevenbergMarquardt):
-///     cost ½Σ_n,o (ŷ_o(x_n) − z_no)² + ½λ Σ (p − g)², p every consequent (normalised units). The
+///  5. **Refines** with Levenberg–Marquardt on all data at that λ (method kLevenbergMarquardt),
+///     only when the data hold more design points (distinct input vectors) than the premise
+///     has centres and widths (2·kInputs·kSets = 24 for the paper's network); with fewer the
+///     data cannot place the premise, and LM bent the network between the 18 moves of the L18
+///     (RPE reduction −3 to −5 points), so the ridge initialisation is kept and the summary
+///     says why. The LM cost:
+///     ½Σ_n,o (ŷ_o(x_n) − z_no)² + ½λ Σ (p − p₀)², p every consequent (normalised units). The
 ///     residual of sample n and output o is `FnnSampleResidual` below, which calls
 ///     `TskEvaluator<T, kInputs, kSets, 1>::forward` — the RT code, here differentiated with
 ///     ceres::Jet through ceres::DynamicAutoDiffCostFunction (stride kFnnJetStride; exact
@@ -38,7 +49,7 @@
 ///     the shared premise and consequent block o, so that is what each residual evaluates.
 ///     Parameter blocks: one premise block (centres, widths: 2·kInputs·kSets values) shared by
 ///     all outputs, and one block per rule and output (kInputs + 1 consequents), so that the
-///     ridge residuals √λ·(p − g) have a block-diagonal Jacobian. Widths are kept ≥ `min_width`
+///     ridge residuals √λ·(p − p₀) have a block-diagonal Jacobian. Widths are kept ≥ `min_width`
 ///     with SetParameterLowerBound (bounds, not a log parametrisation: the evaluator's σ is used as
 ///     is). Linear solver: dense normal Cholesky up to 1000 parameters, sparse normal Cholesky
 ///     above (the premise couples the outputs only weakly); one thread, so results do not
