@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # ctest accuracy_l18_cell_interpolant: what the paper's L18 x 3 data hold about RPE
-# (docs/training.md, "Why RPE misses"). RPE depends on PV and PD only, and any two three-level
-# columns of the L18 hold all nine (PV, PD) cells, six samples each. The tensor quadratic through
+# (docs/training.md, "Why RPE's residual misses"). RPE depends on PV and PD only, and any two
+# three-level columns of the L18 hold all nine (PV, PD) cells, six samples each. The tensor quadratic through
 # the nine cell means (Lagrange in PV times Lagrange in PD) is the plain interpolant of those
 # data. Tested on LHS 270 with Table 1 noise, as the accuracy ctests test the network, it must:
 #  - meet the paper's RPE reduction (90.8 %): the data carry it, so a network trained on them that
@@ -70,7 +70,7 @@ check() {  # check NAME MACHINE TRAIN_SEED TEST_SEED
   fi
   if ! awk -v a="$after" -v l="$limit" 'BEGIN { exit !(a > l) }'; then
     echo "FAIL: $name $tr -> $te: the cell interpolant's residual $after um now meets $limit um:" \
-      "docs/training.md's 'Why RPE misses' is out of date"
+      "docs/training.md (why RPE's residual misses) is out of date"
     failures=$((failures + 1))
   fi
 }
