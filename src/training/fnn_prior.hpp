@@ -209,9 +209,68 @@ inline double leave_one_point_out_sse(const PriorShape& shape,
   return sse;
 }
 
+/// The main effect of `input` over the samples `rows`: Σ over its levels of n_level·(mean of z
+/// at the level − mean of z)², the factor's sum of squares in an ANOVA of the design.
+inline double main_effect_ss(const Eigen::MatrixXd& x,
+                             const Eigen::VectorXd& z,
+                             const std::vector<Eigen::Index>& rows,
+                             int input) {
+  std::vector<double> level, sum, count;
+  double total = 0.0;
+  for (const Eigen::Index r : rows) {
+    const double v = x(r, input);
+    std::size_t l = 0;
+    while (l < level.size() && level[l] != v) ++l;
+    if (l == level.size()) {
+      level.push_back(v);
+      sum.push_back(0.0);
+      count.push_back(0.0);
+    }
+    sum[l] += z(r);
+    count[l] += 1.0;
+    total += z(r);
+  }
+  if (rows.empty()) return 0.0;
+  const double mean = total / static_cast<double>(rows.size());
+  double ss = 0.0;
+  for (std::size_t l = 0; l < level.size(); ++l) {
+    const double d = sum[l] / count[l] - mean;
+    ss += count[l] * d * d;
+  }
+  return ss;
+}
+
+/// Whether `shape` respects effect heredity on the samples `rows`: a quadratic over a pair is
+/// allowed only for the pair of inputs with the two largest main effects. An orthogonal array
+/// of strength 2 estimates main effects cleanly but aliases the pair interactions with each
+/// other: on the paper's L18 a response of PV and AV is fitted exactly at all 18 moves by the
+/// quadratic over PV × AD and over AV × AD too, so leave-one-out cannot tell them apart, and
+/// between the moves the aliases are wrong. Heredity (an interaction is active only where its
+/// parents' main effects are; Wu & Hamada, Experiments, ch. 4) settles it from what the design
+/// does estimate.
+inline bool respects_heredity(const PriorShape& shape,
+                              const Eigen::MatrixXd& x,
+                              const Eigen::VectorXd& z,
+                              const std::vector<Eigen::Index>& rows) {
+  if (shape.quadratic.size() < 2) return true;
+  const int inputs = static_cast<int>(x.cols());
+  std::vector<double> ss(static_cast<std::size_t>(inputs));
+  for (int i = 0; i < inputs; ++i) ss[static_cast<std::size_t>(i)] = main_effect_ss(x, z, rows, i);
+  auto stronger = [&ss](int a, int b) {  // ties: the earlier input
+    return ss[static_cast<std::size_t>(a)] > ss[static_cast<std::size_t>(b)] ||
+           (ss[static_cast<std::size_t>(a)] == ss[static_cast<std::size_t>(b)] && a < b);
+  };
+  for (const int q : shape.quadratic) {
+    int above = 0;  // inputs with a larger main effect than q
+    for (int i = 0; i < inputs; ++i) above += i != q && stronger(i, q) ? 1 : 0;
+    if (above >= static_cast<int>(shape.quadratic.size())) return false;
+  }
+  return true;
+}
+
 /// The shape with the lowest leave-one-design-point-out error over the samples `rows` (ties,
-/// within 1e-9 relative: the simpler, earlier candidate), from prior_candidates(); the
-/// first-order fit when no other candidate can be judged.
+/// within 1e-9 relative: the simpler, earlier candidate), from the prior_candidates() that
+/// respect heredity; the first-order fit when no other candidate can be judged.
 inline PriorShape choose_prior_shape(const Eigen::MatrixXd& x,
                                      const Eigen::VectorXd& z,
                                      const std::vector<std::size_t>& group,
@@ -221,6 +280,7 @@ inline PriorShape choose_prior_shape(const Eigen::MatrixXd& x,
   std::size_t best = 0;
   double best_sse = leave_one_point_out_sse(candidates[0], x, z, group, groups, rows);
   for (std::size_t c = 1; c < candidates.size(); ++c) {
+    if (!respects_heredity(candidates[c], x, z, rows)) continue;
     const double sse = leave_one_point_out_sse(candidates[c], x, z, group, groups, rows);
     if (sse < best_sse * (1.0 - 1e-9)) {
       best = c;

@@ -185,5 +185,32 @@ TEST(FnnPrior, APartOfTheL18WithoutACellOfThePairCannotPinThePairOrChooseIt) {
   EXPECT_EQ(choose_prior_shape(x, z, group, 18, all).quadratic, (std::vector<int>{0, 1}));
 }
 
+TEST(FnnPrior, OnTheL18AliasedPairsAreSettledByTheStrongestMainEffects) {
+  // The L18 estimates main effects cleanly but aliases pair interactions: a response of inputs
+  // a and b is fitted at all 18 moves by the quadratic over other pairs too, and between the
+  // moves those aliases are wrong. Heredity allows only the pair of the two largest main
+  // effects.
+  std::vector<std::size_t> group;
+  const Eigen::MatrixXd x = l18_inputs(3, &group);
+  const std::vector<Eigen::Index> all = all_rows(x.rows());
+  const std::vector<std::vector<int>> pairs = {{0, 2}, {0, 3}, {2, 3}};
+  for (const std::vector<int>& pair : pairs) {
+    Eigen::VectorXd z(x.rows());
+    for (Eigen::Index k = 0; k < x.rows(); ++k) {
+      const double a = x(k, pair[0]), b = x(k, pair[1]);
+      z(k) = 4.0 * a * b + 2.0 * a * a;
+    }
+    int exact_fits = 0;
+    for (const std::vector<int>& other : pairs) {
+      const PriorShape shape{other, {}};
+      if (leave_one_point_out_sse(shape, x, z, group, 18) < 1e-6) ++exact_fits;
+      EXPECT_EQ(respects_heredity(shape, x, z, all), other == pair)
+          << "response of " << pair[0] << "×" << pair[1] << ", shape " << shape.describe({});
+    }
+    EXPECT_EQ(exact_fits, 3) << "the aliasing this guards against is gone";
+    EXPECT_EQ(choose_prior_shape(x, z, group, 18).quadratic, pair);
+  }
+}
+
 }  // namespace
 }  // namespace cmmcomp::training::detail

@@ -81,11 +81,12 @@
 /// non-finite solve is reported in TrainingSummary, and the model falls back to the ridge
 /// initialisation when the refined parameters are not finite).
 ///
-/// Speed (release preset, shared 2-core machine, 2026-12-05, `cmmcomp-train fit` wall time): the
-/// paper's inputs with 4 outputs (1644 parameters) on L18 × 3 (54 samples) 1.9 s with
-/// `interval_folds = kRidge`, 9.5 s with the default kNarrower (five more LM solves, one per
-/// calibration fold); on the shipped model's 324 samples 9.4 s and 49.8 s. CV takes < 10 ms;
-/// the Jet Jacobian of each LM iteration dominates.
+/// Speed (release preset, shared 2-core machine, `cmmcomp-train fit` wall time): the paper's
+/// inputs with 4 outputs (1644 parameters) on the shipped model's 324 samples (L18 × 3 + LHS
+/// 270) 9.4 s with `interval_folds = kRidge`, 49.8 s with the default kNarrower (five more LM
+/// solves, one per calibration fold; 2026-12-05). On L18 × 3 (54 samples, 18 design points, no
+/// LM) 0.05 s and 0.08 s (2026-12-06). CV and the prior's choice take < 10 ms; the Jet
+/// Jacobian of each LM iteration dominates (bench_training).
 #pragma once
 
 #include <array>
