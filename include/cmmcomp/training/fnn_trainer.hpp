@@ -18,15 +18,16 @@
 ///     per output, the global first-order fit g (least squares of z on [1, x]) in every rule,
 ///     or — when every input of the data sits on exactly three levels, a designed experiment —
 ///     the shape chosen by leave-one-design-point-out CV among g and tensor quadratics over one
-///     or two inputs (with or without first-order terms in the others), put into each rule as
-///     the shape's tangent plane at the rule's centre (src/training/fnn_prior.hpp).
+///     input or over the pair with the two largest main effects (heredity: the design aliases
+///     the other pairs with it), with or without first-order terms in the others, put into each
+///     rule as the shape's tangent plane at the rule's centre (src/training/fnn_prior.hpp).
 ///     Why: 54 samples of 18 distinct moves cannot pin down 405 consequents per output; between
 ///     the training moves a ridge towards zero pulls the prediction towards the mean, a ridge
 ///     towards g falls back on the best first-order model (Σᾱ = 1, so rules all equal to g
 ///     give exactly g·[1, x]). On the default twin g halved the test residual of MPE and RPE
 ///     against a ridge towards zero; on the paper's L18 the quadratic through the nine
 ///     (PV, PD) cell means, which is what an ANOVA reads off the design, raised RPE's test
-///     reduction from 87–88 % to 91.5–92.7 % (docs/training.md, "The prior"). This alone is
+///     reduction from 87–88 % to 91.1–92.7 % (docs/training.md, "The prior"). This alone is
 ///     already a good model (`max_iterations = 0` stops here).
 ///  4. **Chooses λ** (options.lambda < 0) by k-fold cross-validation over `lambda_grid`: folds
 ///     from a seeded shuffle; inside CV the premise stays at the initialisation and only the
@@ -64,8 +65,10 @@
 ///     the ridge initialisation of step 3, as for LM, so both methods report the same figure).
 ///  7. **Calibrates the prediction interval** (options.interval_coverage > 0, default 0.95;
 ///     docs/uncertainty.md): the split-conformal quantile of cross-validated residuals, the folds
-///     made of whole design points, and the interval's growth outside the training box from fits
-///     with one end of one input held out. The fold models are ridge fits (milliseconds) and,
+///     made of whole design points (with LM on ≤ 24 design points, one design point per fold,
+///     so that no fold empties a cell of the design), and the interval's growth outside the
+///     training box from fits with one end of one input held out. The fold models are ridge
+///     fits (milliseconds) and,
 ///     with options.interval_folds ≠ kRidge, also networks trained as the served one (one more
 ///     LM solve, or GD run, per fold); by default each output takes the narrower interval with
 ///     LM, and the folds trained as served with GD, whose random start makes the ridge fits no
