@@ -39,10 +39,8 @@ training::Samples<4> lhs_training_set() {
   return twin_training_set(doe::latin_hypercube(names, lower, upper, 54, 1));
 }
 
-// The multi-output network (shared premise, MPE/RPE/MAE/RAE), default options on the L18 × 3:
-// prior choice, CV and the interval's folds; no LM (lm_iterations reports 0).
-void BM_TrainPaperInputs4Outputs(benchmark::State& state) {
-  const training::Samples<4> s = paper_training_set();
+// The multi-output network (shared premise, MPE/RPE/MAE/RAE) with default options on `s`.
+void train_four_outputs(benchmark::State& state, const training::Samples<4>& s) {
   training::FnnTrainingOptions options;
   for (auto _ : state) {
     auto r = training::train_fnn<4, 3, 4>(s.inputs, s.targets, options);
@@ -50,18 +48,17 @@ void BM_TrainPaperInputs4Outputs(benchmark::State& state) {
     state.counters["lm_iterations"] = r.summary.iterations;
   }
 }
+
+// On the L18 × 3: prior choice, CV and the interval's folds; no LM (lm_iterations reports 0).
+void BM_TrainPaperInputs4Outputs(benchmark::State& state) {
+  train_four_outputs(state, paper_training_set());
+}
 BENCHMARK(BM_TrainPaperInputs4Outputs)->Unit(benchmark::kMillisecond)->Iterations(3);
 
-// The same on 54 Latin-hypercube moves: first-order prior, CV, 8 LM iterations, and five more
-// LM solves for the interval's folds trained as served.
+// On 54 Latin-hypercube moves: first-order prior, CV, 8 LM iterations, and five more LM solves
+// for the interval's folds trained as served.
 void BM_TrainPaperInputs4OutputsLhs54(benchmark::State& state) {
-  const training::Samples<4> s = lhs_training_set();
-  training::FnnTrainingOptions options;
-  for (auto _ : state) {
-    auto r = training::train_fnn<4, 3, 4>(s.inputs, s.targets, options);
-    benchmark::DoNotOptimize(r.model.params.values.data());
-    state.counters["lm_iterations"] = r.summary.iterations;
-  }
+  train_four_outputs(state, lhs_training_set());
 }
 BENCHMARK(BM_TrainPaperInputs4OutputsLhs54)->Unit(benchmark::kMillisecond)->Iterations(3);
 

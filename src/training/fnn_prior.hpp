@@ -240,32 +240,47 @@ inline double main_effect_ss(const Eigen::MatrixXd& x,
   return ss;
 }
 
-/// Whether `shape` respects effect heredity on the samples `rows`: a quadratic over a pair is
-/// allowed only for the pair of inputs with the two largest main effects. An orthogonal array
-/// of strength 2 estimates main effects cleanly but aliases the pair interactions with each
+/// Whether `shape` respects effect heredity: a quadratic over a pair is
+/// allowed only for `strongest_pair`, the inputs with the two largest main effects. An orthogonal
+/// array of strength 2 estimates main effects cleanly but aliases the pair interactions with each
 /// other: on the paper's L18 a response of PV and AV is fitted exactly at all 18 moves by the
 /// quadratic over PV × AD and over AV × AD too, so leave-one-out cannot tell them apart, and
 /// between the moves the aliases are wrong. Heredity (an interaction is active only where its
 /// parents' main effects are; Wu & Hamada, Experiments, ch. 4) settles it from what the design
 /// does estimate.
+inline bool respects_heredity(const PriorShape& shape, const std::vector<int>& strongest_pair) {
+  for (const int q : shape.quadratic) {
+    if (shape.quadratic.size() > 1 &&
+        std::find(strongest_pair.begin(), strongest_pair.end(), q) == strongest_pair.end()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The two inputs with the largest main effects on the samples `rows` (ties: the earlier input).
+inline std::vector<int> strongest_pair(const Eigen::MatrixXd& x,
+                                       const Eigen::VectorXd& z,
+                                       const std::vector<Eigen::Index>& rows) {
+  std::vector<int> order(static_cast<std::size_t>(x.cols()));
+  std::vector<double> ss(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    order[i] = static_cast<int>(i);
+    ss[i] = main_effect_ss(x, z, rows, static_cast<int>(i));
+  }
+  std::stable_sort(order.begin(), order.end(), [&ss](int a, int b) {
+    return ss[static_cast<std::size_t>(a)] > ss[static_cast<std::size_t>(b)];
+  });
+  order.resize(std::min<std::size_t>(order.size(), 2));
+  return order;
+}
+
+/// respects_heredity with the pair of the samples `rows`.
 inline bool respects_heredity(const PriorShape& shape,
                               const Eigen::MatrixXd& x,
                               const Eigen::VectorXd& z,
                               const std::vector<Eigen::Index>& rows) {
-  if (shape.quadratic.size() < 2) return true;
-  const int inputs = static_cast<int>(x.cols());
-  std::vector<double> ss(static_cast<std::size_t>(inputs));
-  for (int i = 0; i < inputs; ++i) ss[static_cast<std::size_t>(i)] = main_effect_ss(x, z, rows, i);
-  auto stronger = [&ss](int a, int b) {  // ties: the earlier input
-    return ss[static_cast<std::size_t>(a)] > ss[static_cast<std::size_t>(b)] ||
-           (ss[static_cast<std::size_t>(a)] == ss[static_cast<std::size_t>(b)] && a < b);
-  };
-  for (const int q : shape.quadratic) {
-    int above = 0;  // inputs with a larger main effect than q
-    for (int i = 0; i < inputs; ++i) above += i != q && stronger(i, q) ? 1 : 0;
-    if (above >= static_cast<int>(shape.quadratic.size())) return false;
-  }
-  return true;
+  return respects_heredity(shape, strongest_pair(x, z, rows));
 }
 
 /// The shape with the lowest leave-one-design-point-out error over the samples `rows` (ties,
@@ -277,10 +292,11 @@ inline PriorShape choose_prior_shape(const Eigen::MatrixXd& x,
                                      std::size_t groups,
                                      const std::vector<Eigen::Index>& rows) {
   const std::vector<PriorShape> candidates = prior_candidates(static_cast<int>(x.cols()));
+  const std::vector<int> pair = strongest_pair(x, z, rows);
   std::size_t best = 0;
   double best_sse = leave_one_point_out_sse(candidates[0], x, z, group, groups, rows);
   for (std::size_t c = 1; c < candidates.size(); ++c) {
-    if (!respects_heredity(candidates[c], x, z, rows)) continue;
+    if (!respects_heredity(candidates[c], pair)) continue;
     const double sse = leave_one_point_out_sse(candidates[c], x, z, group, groups, rows);
     if (sse < best_sse * (1.0 - 1e-9)) {
       best = c;

@@ -354,7 +354,8 @@ class Trainer {
     const bool part = idx.size() != x_.size();
     for (int o = 0; o < kOutputs; ++o) {
       const detail::PriorShape shape =
-          part && !detail::prior_identifiable(shapes_[sz(o)], xm_, idx)
+          part && !shapes_[sz(o)].first_order() &&
+                  !detail::prior_identifiable(shapes_[sz(o)], xm_, idx)
               ? detail::choose_prior_shape(xm_, z_.col(o), group_, groups_, idx)
               : shapes_[sz(o)];
       if (shape.first_order()) {
