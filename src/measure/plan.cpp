@@ -9,6 +9,7 @@
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/measure/plan.hpp>
 #include <cstdlib>
+#include <map>
 #include <utility>
 
 #include "csv_reader.hpp"
@@ -152,6 +153,8 @@ std::vector<PlannedMove> parse_plan_csv(const std::string& text, const std::stri
   const std::size_t axis = t.require("axis");
   const std::size_t direction = t.require("direction");
   std::vector<PlannedMove> moves;
+  std::map<int, int> line_of_id;
+  std::map<std::pair<int, int>, int> line_of_run;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     PlannedMove m;
     int* id_fields[] = {&m.move_id, &m.run_order, &m.run, &m.repeat};
@@ -184,6 +187,41 @@ std::vector<PlannedMove> parse_plan_csv(const std::string& text, const std::stri
       vecs[i]->x = t.number(r, points[3 * i]);
       vecs[i]->y = t.number(r, points[3 * i + 1]);
       vecs[i]->z = t.number(r, points[3 * i + 2]);
+    }
+    // The normal must be the axis's unit vector against the motion: d = −IJK along the axis.
+    const double along = axis_value(m.normal, m.axis);
+    const double across =
+        std::fabs(m.normal.x) + std::fabs(m.normal.y) + std::fabs(m.normal.z) - std::fabs(along);
+    if (!(std::fabs(std::fabs(along) - 1.0) < 1e-9 && across < 1e-9)) {
+      throw ConfigError(fmt::format("{}: the normal IJK ({}, {}, {}) is not ±{} (the move's axis)",
+                                    t.where(r),
+                                    m.normal.x,
+                                    m.normal.y,
+                                    m.normal.z,
+                                    m.axis));
+    }
+    if (along * m.direction > 0) {
+      throw ConfigError(fmt::format(
+          "{}: direction {} along {} runs with the normal IJK ({}, {}, {}); a probing move runs "
+          "against it (direction = −IJK along the axis)",
+          t.where(r),
+          m.direction,
+          m.axis,
+          m.normal.x,
+          m.normal.y,
+          m.normal.z));
+    }
+    if (const auto [at, fresh] = line_of_id.emplace(m.move_id, t.lines[r]); !fresh) {
+      throw ConfigError(fmt::format(
+          "{}: move_id {} is also on line {} (a copied row?)", t.where(r), m.move_id, at->second));
+    }
+    if (const auto [at, fresh] = line_of_run.emplace(std::make_pair(m.run, m.repeat), t.lines[r]);
+        !fresh) {
+      throw ConfigError(fmt::format("{}: run {} repeat {} is also on line {} (a copied row?)",
+                                    t.where(r),
+                                    m.run,
+                                    m.repeat,
+                                    at->second));
     }
     if (static_cast<int>(r) + 1 != m.run_order) {
       throw ConfigError(t.where(r) + ": run_order " + std::to_string(m.run_order) +

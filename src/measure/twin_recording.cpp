@@ -78,6 +78,9 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
         "recording setup out of range (rest 0.01–60 s, |drift| < 1 %, noise ≥ 0, "
         "dropouts < 50 %, tracker jitter 0–0.45 of a period)");
   }
+  if (setup.sync && !setup.two_clocks) {
+    throw ConfigError("sync markers need two clocks (one clock needs no sync)");
+  }
   if (setup.tracker_jitter > 0 && !setup.two_clocks) {
     throw ConfigError("tracker jitter needs two clocks (one clock samples the tip with the scale)");
   }
@@ -129,6 +132,25 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
       if (rec.one_clock) rec.tip_mm.push_back(x0 + d * p);
     }
     if (rec.one_clock) rec.tip_t_s = rec.scale_t_s;
+    // Times are written to 0.1 µs: a trigger within 1 µs of a sample is that sample.
+    const auto near = [](const std::vector<double>& t, double at) {
+      const auto it = std::lower_bound(t.begin(), t.end(), at - 1e-6);
+      return it != t.end() && std::fabs(*it - at) <= 1e-6 ? *it : at;
+    };
+    double trigger = session + std::min(0.1, 0.5 * setup.rest_s);  // controller clock
+    if (setup.sync && !rec.one_clock) {
+      // The controller's marker row, at the trigger's instant (inserted in time order).
+      trigger = near(rec.scale_t_s, trigger);
+      const auto at = std::lower_bound(rec.scale_t_s.begin(), rec.scale_t_s.end(), trigger);
+      const auto i = at - rec.scale_t_s.begin();
+      if (at == rec.scale_t_s.end() || *at != trigger) {
+        double s = 0, p = 0;
+        tr.at(trigger - start, s, p);
+        rec.scale_t_s.insert(at, trigger);
+        rec.scale_mm.insert(rec.scale_mm.begin() + i, x0 + d * s);
+      }
+      rec.scale_sync_t_s.push_back(trigger);
+    }
     if (!rec.one_clock) {
       // The tracker's clock: t_t = t_c·(1 − drift) − offset, sampled evenly on its own clock.
       const double dtt = 1.0 / setup.tracker_rate_hz;
@@ -170,6 +192,20 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
     }
     rec.tip_t_s = std::move(t_kept);
     rec.tip_mm = std::move(x_kept);
+    if (setup.sync && !rec.one_clock) {
+      // The tracker's marker row: the same trigger on its own clock, never lost.
+      const double tt = near(rec.tip_t_s, trigger * (1.0 - setup.drift) - setup.clock_offset_s);
+      const auto at = std::lower_bound(rec.tip_t_s.begin(), rec.tip_t_s.end(), tt);
+      const auto i = at - rec.tip_t_s.begin();
+      if (at == rec.tip_t_s.end() || *at != tt) {
+        double s = 0, p = 0;
+        tr.at(trigger - start, s, p);
+        rec.tip_t_s.insert(at, tt);
+        rec.tip_mm.insert(rec.tip_mm.begin() + i,
+                          x0 + d * p + setup.white_noise_um * 1e-3 * rng.normal());
+      }
+      rec.tip_sync_t_s.push_back(tt);
+    }
     if (rec.one_clock && rec.tip_t_s.size() != rec.scale_t_s.size()) {
       // One file, one clock: a lost tracker sample loses its row.
       std::vector<double> ts, xs;
@@ -206,6 +242,9 @@ SessionRecording as_session(const std::vector<TwinMove>& moves) {
       s.tip_t_s.push_back(r.tip_t_s[i]);
       s.tip_mm.push_back(r.tip_mm[i]);
     }
+    s.scale_sync_t_s.insert(
+        s.scale_sync_t_s.end(), r.scale_sync_t_s.begin(), r.scale_sync_t_s.end());
+    s.tip_sync_t_s.insert(s.tip_sync_t_s.end(), r.tip_sync_t_s.begin(), r.tip_sync_t_s.end());
   }
   return s;
 }
@@ -227,14 +266,26 @@ void write_streams(const MoveRecording& r,
     io::write_file_atomically(one, s);
     return;
   }
-  std::string c = "t_s," + a + "_scale_mm\n";
-  for (std::size_t i = 0; i < r.scale_t_s.size(); ++i) {
-    c += fmt::format("{:.7f},{:.7f}\n", r.scale_t_s[i], r.scale_mm[i]);
-  }
-  std::string t = "t_s," + a + "_tip_mm\n";
-  for (std::size_t i = 0; i < r.tip_t_s.size(); ++i) {
-    t += fmt::format("{:.7f},{:.7f}\n", r.tip_t_s[i], r.tip_mm[i]);
-  }
+  // With sync markers a `sync` column: 1 on the rows taken at a trigger.
+  const auto stream = [](const std::string& header,
+                         const std::vector<double>& t,
+                         const std::vector<double>& x,
+                         const std::vector<double>& markers) {
+    std::string s = header + (markers.empty() ? "\n" : ",sync\n");
+    std::size_t next = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      s += fmt::format("{:.7f},{:.7f}", t[i], x[i]);
+      if (!markers.empty()) {
+        const bool marker = next < markers.size() && t[i] == markers[next];
+        next += marker;
+        s += marker ? ",1" : ",0";
+      }
+      s += '\n';
+    }
+    return s;
+  };
+  const std::string c = stream("t_s," + a + "_scale_mm", r.scale_t_s, r.scale_mm, r.scale_sync_t_s);
+  const std::string t = stream("t_s," + a + "_tip_mm", r.tip_t_s, r.tip_mm, r.tip_sync_t_s);
   io::write_file_atomically(controller, c);
   io::write_file_atomically(tracker, t);
 }
@@ -255,6 +306,8 @@ void write_session_recording(const std::string& dir, const SessionRecording& ses
   r.scale_mm = session.scale_mm;
   r.tip_t_s = session.tip_t_s;
   r.tip_mm = session.tip_mm;
+  r.scale_sync_t_s = session.scale_sync_t_s;
+  r.tip_sync_t_s = session.tip_sync_t_s;
   r.one_clock = session.one_clock;
   write_streams(r,
                 axis,

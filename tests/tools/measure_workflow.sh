@@ -14,29 +14,72 @@ rm -rf "$work" && mkdir -p "$work" && cd "$work"
 grep -q '^00001 StartSession()$' campaign/plan.ipp
 [ "$(grep -c ' PtMeas(' campaign/plan.ipp)" = 54 ]
 "$sim" record --plan campaign/plan.csv --two-clocks --clock-offset-ms 37 --drift-ppm 100 \
-  --white-noise-um 0.3 -o campaign/rec
-"$measure" extract --plan campaign/plan.csv --recordings campaign/rec \
-  --machine "$(dirname "$0")/../../data/machines/default.toml" -o campaign/dataset.csv | tee extract.txt
+  --white-noise-um 0.3 --sync -o campaign/rec
+grep -q ',sync$' campaign/rec/move-0001.tracker.csv
+# The clean campaign: the clock from the sync markers, the controller timing measured; quiet.
+"$measure" extract --plan campaign/plan.csv --recordings campaign/rec -o campaign/dataset.csv \
+  2>stderr.txt | tee extract.txt
+[ ! -s stderr.txt ] || { cat stderr.txt; echo "a clean campaign must be quiet"; exit 1; }
 grep -q '^extracted 54 of 54 moves' extract.txt
-grep -q '^tracker clock: offset ' extract.txt
+grep -q '^tracker clock: offset 37.000 ms, drift 100.0 ppm, from 54 sync markers' extract.txt
+grep -q '^controller timing: dwell 1.12[89] s (measured' extract.txt
+grep -q '"extracted": 54' campaign/dataset.csv.summary.json
+# The machine file's timing agrees with the traces: used.
+"$measure" extract --plan campaign/plan.csv --recordings campaign/rec \
+  --machine "$(dirname "$0")/../../data/machines/default.toml" -o given.csv | tee given.txt
+grep -q '^controller timing: dwell 1.128 s (given' given.txt
+# A wrong dwell is refused, naming the measured one; the report and summary are still written.
+if "$measure" extract --plan campaign/plan.csv --recordings campaign/rec --dwell 1.2 \
+  -o wrong.csv 2>wrong.txt; then echo "a wrong dwell must be refused"; exit 1; fi
+grep -q "the controller's dwell is 1.12[89] s" wrong.txt
+[ -s wrong.csv.report.csv ] && [ -s wrong.csv.summary.json ] && [ ! -e wrong.csv ]
+# Usage errors exit 2.
+set +e
+"$measure" extract --plan campaign/plan.csv --recordings campaign/rec --dwell -1 -o u.csv 2>/dev/null
+[ $? = 2 ] || { echo "--dwell -1 must be a usage error"; exit 1; }
+"$measure" extract --plan campaign/plan.csv --recordings campaign/rec --dwell nan -o u.csv 2>/dev/null
+[ $? = 2 ] || { echo "--dwell nan must be a usage error"; exit 1; }
+"$measure" extract --plan campaign/plan.csv --recordings campaign/rec --drift-ppm 1e6 -o u.csv 2>/dev/null
+[ $? = 2 ] || { echo "--drift-ppm 1e6 must be a usage error"; exit 1; }
+set -e
+# A copied plan row is an error naming both lines.
+{ cat campaign/plan.csv; tail -n 1 campaign/plan.csv; } > dup.csv
+if "$measure" extract --plan dup.csv --recordings campaign/rec -o d.csv 2>dup.txt; then exit 1; fi
+grep -q 'is also on line' dup.txt
 "$train" fit campaign/dataset.csv -o campaign/model.json
 "$sim" dataset --design lhs --samples 60 --noise --seed 2 -o test.csv
 "$train" eval campaign/model.json test.csv | tee eval.txt
 grep -q 'reduction' eval.txt
-# A broken campaign: one move's files gone, one tracker file cut before the touch.
+# A broken campaign: one move's files gone, one tracker file cut before the touch, one file cut
+# inside its last number (no line end), one with a NUL byte.
 rm campaign/rec/move-0001.tracker.csv
 head -n 200 campaign/rec/move-0002.tracker.csv > cut.csv && mv cut.csv campaign/rec/move-0002.tracker.csv
+head -c -3 campaign/rec/move-0003.tracker.csv > cut.csv && mv cut.csv campaign/rec/move-0003.tracker.csv
+printf '0.5,\0\n' >> campaign/rec/move-0004.controller.csv
 "$measure" extract --plan campaign/plan.csv --recordings campaign/rec \
   --machine "$(dirname "$0")/../../data/machines/default.toml" -o broken.csv | tee broken.txt
-grep -q '^extracted 52 of 54 moves' broken.txt
+grep -q '^extracted 50 of 54 moves' broken.txt
 grep -q '^1,skipped,.*a stream is missing' broken.csv.report.csv
 grep -q '^2,skipped,' broken.csv.report.csv
+grep -q '^3,skipped,.*the last line has no line end' broken.csv.report.csv
+grep -q '^4,skipped,.*a NUL byte' broken.csv.report.csv
 # One continuous session recording instead of files per move: the moves are found in it.
 "$sim" record --plan campaign/plan.csv --two-clocks --clock-offset-ms 37 --drift-ppm 100 \
-  --session -o session
+  --session --sync -o session
 [ -e session/session.tracker.csv ] && [ ! -e session/move-0001.tracker.csv ]
 "$measure" extract --plan campaign/plan.csv --recordings session \
   --machine "$(dirname "$0")/../../data/machines/default.toml" -o session.csv | tee session.txt
-grep -q '^session .*: 54 of 54 planned moves found, tracker offset' session.txt
+grep -q '^session .*: 54 of 54 planned moves found, tracker clock from 54 sync markers' session.txt
 grep -q '^extracted 54 of 54 moves' session.txt
+# Without the sync, the clock from the motion is refused with its effect on the parameters.
+"$sim" record --plan campaign/plan.csv --two-clocks --clock-offset-ms 37 --drift-ppm 100 \
+  --session -o nosync
+if "$measure" extract --plan campaign/plan.csv --recordings nosync -o nosync.csv 2>nosync.txt; then
+  echo "two clocks without a sync must be refused"; exit 1
+fi
+grep -q 'aligned from the motion alone' nosync.txt
+# A stray row 20 000 s late is an error naming its row, at once.
+{ cat session/session.controller.csv; echo "20100.0,100.0,0"; } > stray.csv && mv stray.csv session/session.controller.csv
+if timeout 20 "$measure" extract --plan campaign/plan.csv --recordings session -o stray.csv 2>stray.txt; then exit 1; fi
+grep -q 'the time jumps by' stray.txt
 echo "tool_measure_workflow: PASS"

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cmmcomp/doe/levels.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
@@ -71,22 +72,48 @@ int run_plan(PlanCommand cmd) {
 }
 
 struct ExtractCommand {
-  std::string plan, recordings, machine_path, output, report;
+  std::string plan, recordings, machine_path, output, report, summary;
   measure::ExtractOptions options;
   double offset_ms = 0, drift_ppm = 0;
+  double timing_tolerance_ms = 10.0;
 };
+
+/// One move's files, or the reason they cannot be read (a malformed recording skips its move).
+measure::MoveRecording read_move(const std::string& dir, const measure::PlannedMove& m) {
+  const std::string one = dir + measure::one_clock_file(m.move_id);
+  const std::string ctl = dir + measure::controller_file(m.move_id);
+  const std::string trk = dir + measure::tracker_file(m.move_id);
+  measure::MoveRecording r;
+  r.move_id = m.move_id;
+  try {
+    if (std::filesystem::exists(one))
+      return measure::read_move_recording(one, "", m.axis, m.move_id);
+    if (std::filesystem::exists(ctl) && std::filesystem::exists(trk)) {
+      return measure::read_move_recording(ctl, trk, m.axis, m.move_id);
+    }
+    r.problem = "a stream is missing: no " + measure::one_clock_file(m.move_id) + ", or not both " +
+                measure::controller_file(m.move_id) + " and " + measure::tracker_file(m.move_id);
+  } catch (const cmmcomp::ConfigError& e) {
+    r.problem = std::string("unreadable recording: ") + e.what();
+  }
+  return r;
+}
+
+std::string seconds(double v) { return std::isnan(v) ? "-" : fmt::format("{:.3f} s", v); }
 
 int run_extract(ExtractCommand cmd) {
   if (!cmd.machine_path.empty()) {
     const cmmcomp::dynamics::Machine m = cmmcomp::dynamics::load_machine(cmd.machine_path);
-    cmd.options.dwell_s = m.parameters.controller_dwell_s;
-    cmd.options.smoothing_s = m.parameters.controller_smoothing_s;
+    if (std::isnan(cmd.options.dwell_s)) cmd.options.dwell_s = m.parameters.controller_dwell_s;
+    if (std::isnan(cmd.options.smoothing_s))
+      cmd.options.smoothing_s = m.parameters.controller_smoothing_s;
   }
-  cmd.options.clock_offset_s = cmd.offset_ms * 1e-3;
-  cmd.options.clock_drift = cmd.drift_ppm * 1e-6;
   const std::vector<measure::PlannedMove> plan = measure::read_plan_csv(cmd.plan);
   std::vector<measure::MoveRecording> recordings;
   const std::string dir = cmd.recordings + "/";
+  if (!std::filesystem::is_directory(cmd.recordings)) {
+    throw cmmcomp::ConfigError("--recordings " + cmd.recordings + ": not a directory");
+  }
   const bool session_one = std::filesystem::exists(dir + measure::kSessionFile);
   const bool session_two = std::filesystem::exists(dir + measure::kSessionControllerFile);
   if (session_one || session_two) {
@@ -97,47 +124,83 @@ int run_extract(ExtractCommand cmd) {
         plan.front().axis);
     const measure::SessionSplit split = measure::split_session(plan, session, cmd.options);
     recordings = split.moves;
+    if (split.sync.fitted) {
+      cmd.options.known_clock = true;
+      cmd.options.clock_offset_s = split.sync.offset_s;
+      cmd.options.clock_drift = split.sync.drift;
+      cmd.options.known_clock_source = "sync markers";
+    }
     int found = 0;
     for (const measure::MoveRecording& r : recordings) found += r.problem.empty();
     std::printf(
         "session %s: %d of %zu planned moves found", session.source.c_str(), found, plan.size());
-    if (!session.one_clock)
+    if (split.sync.fitted) {
+      std::printf(", tracker clock from %d sync markers", split.sync.sync_markers);
+    } else if (!session.one_clock) {
       std::printf(", tracker offset %.1f ms from the speeds", split.coarse_offset_s * 1e3);
+    }
     std::printf("\n");
   } else {
-    for (const measure::PlannedMove& m : plan) {
-      const std::string one = dir + measure::one_clock_file(m.move_id);
-      const std::string ctl = dir + measure::controller_file(m.move_id);
-      const std::string trk = dir + measure::tracker_file(m.move_id);
-      if (std::filesystem::exists(one)) {
-        recordings.push_back(measure::read_move_recording(one, "", m.axis, m.move_id));
-      } else if (std::filesystem::exists(ctl) && std::filesystem::exists(trk)) {
-        recordings.push_back(measure::read_move_recording(ctl, trk, m.axis, m.move_id));
-      } else {
-        measure::MoveRecording empty;
-        empty.move_id = m.move_id;
-        empty.problem = "a stream is missing: no " + measure::one_clock_file(m.move_id) +
-                        ", or not both " + measure::controller_file(m.move_id) + " and " +
-                        measure::tracker_file(m.move_id);
-        recordings.push_back(empty);
-      }
-    }
+    for (const measure::PlannedMove& m : plan) recordings.push_back(read_move(dir, m));
   }
   const measure::Extraction ex = measure::extract_moves(plan, recordings, cmd.options);
   const std::vector<cmmcomp::DatasetRow> rows = ex.rows();
-  if (rows.empty()) throw cmmcomp::Error("no move could be extracted (see the report)");
+  // The report and the summary are written whatever happens next: a refused run is explained.
   const std::string report = cmd.report.empty() ? cmd.output + ".report.csv" : cmd.report;
+  const std::string summary = cmd.summary.empty() ? cmd.output + ".summary.json" : cmd.summary;
   cmmcomp::io::write_file_atomically(report, measure::format_extraction_report(ex));
+  cmmcomp::io::write_file_atomically(summary, measure::format_extraction_summary(ex));
+  for (const std::string& w : ex.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (!ex.refusal.empty()) {
+    std::fprintf(stderr,
+                 "cmmcomp-measure: refused: %s\n(per-move report: %s; summary: %s; no dataset "
+                 "written)\n",
+                 ex.refusal.c_str(),
+                 report.c_str(),
+                 summary.c_str());
+    return 1;
+  }
+  if (rows.empty()) {
+    std::fprintf(stderr,
+                 "cmmcomp-measure: no move could be extracted; the most frequent reason: %s\n"
+                 "(controller timing used: dwell %s, smoothing %s; measured on the traces: dwell "
+                 "%s, smoothing %s; per-move report: %s; summary: %s)\n",
+                 ex.most_frequent_reason().c_str(),
+                 seconds(ex.timing.dwell_s).c_str(),
+                 seconds(ex.timing.smoothing_s).c_str(),
+                 seconds(ex.timing.measured_dwell_s).c_str(),
+                 seconds(ex.timing.measured_smoothing_s).c_str(),
+                 report.c_str(),
+                 summary.c_str());
+    return 1;
+  }
   cmmcomp::io::write_dataset_csv(cmd.output, rows);
-  std::printf("extracted %zu of %zu moves to %s; per-move report: %s\n",
+  std::printf("extracted %zu of %zu moves to %s; per-move report: %s; summary: %s\n",
               rows.size(),
               ex.moves.size(),
               cmd.output.c_str(),
-              report.c_str());
-  if (ex.clock.fitted && !cmd.options.known_clock) {
-    std::printf("tracker clock: offset %.3f ms, drift %.1f ppm\n",
+              report.c_str(),
+              summary.c_str());
+  std::printf(
+      "controller timing: dwell %s (%s; the traces say %s), smoothing %s (%s; the traces say "
+      "%s), over %d moves\n",
+      seconds(ex.timing.dwell_s).c_str(),
+      ex.timing.dwell_given ? "given" : "measured",
+      seconds(ex.timing.measured_dwell_s).c_str(),
+      seconds(ex.timing.smoothing_s).c_str(),
+      ex.timing.smoothing_given ? "given" : "measured",
+      seconds(ex.timing.measured_smoothing_s).c_str(),
+      ex.timing.measured_moves);
+  if (ex.clock.source == "motion" && ex.clock.fitted) {
+    std::printf("tracker clock: offset %.3f ms, drift %.1f ppm, from the motion (±%.3f ms)\n",
                 ex.clock.offset_s * 1e3,
-                ex.clock.drift * 1e6);
+                ex.clock.drift * 1e6,
+                ex.clock.uncertainty_ms);
+  } else if (ex.clock.source == "sync markers" && ex.clock.sync_markers > 0) {
+    std::printf("tracker clock: offset %.3f ms, drift %.1f ppm, from %d sync markers\n",
+                ex.clock.offset_s * 1e3,
+                ex.clock.drift * 1e6,
+                ex.clock.sync_markers);
   }
   std::map<std::string, int> reasons;
   for (const measure::MoveExtraction& m : ex.moves) {
@@ -191,8 +254,18 @@ int main(int argc, char** argv) {
   extract->add_option("--machine",
                       ec.machine_path,
                       "machine file whose [controller] dwell and smoothing the moves ran with");
-  extract->add_option("--dwell", ec.options.dwell_s, "controller dwell [s]")->capture_default_str();
-  extract->add_option("--smoothing", ec.options.smoothing_s, "controller smoothing [s]")
+  CLI::Option* dwell =
+      extract->add_option("--dwell",
+                          ec.options.dwell_s,
+                          "controller dwell [s] (default: the machine file's, else measured)");
+  CLI::Option* smoothing =
+      extract->add_option("--smoothing",
+                          ec.options.smoothing_s,
+                          "controller smoothing [s] (default: the machine file's, else measured)");
+  extract
+      ->add_option("--timing-tolerance-ms",
+                   ec.timing_tolerance_ms,
+                   "refuse a given dwell or smoothing further than this from the measured [ms]")
       ->capture_default_str();
   extract
       ->add_option("--max-profile-rms",
@@ -215,18 +288,41 @@ int main(int argc, char** argv) {
       "tracker clock offset known from a sync event [ms]: t_c = (t_t + offset)/(1 - drift)");
   CLI::Option* drift =
       extract->add_option("--drift-ppm", ec.drift_ppm, "tracker clock drift known with it [ppm]");
+  extract->add_flag("--accept-clock-uncertainty",
+                    ec.options.accept_clock_uncertainty,
+                    "two clocks without a sync: warn instead of refusing when the alignment's "
+                    "uncertainty moves a parameter by more than the allowance");
   extract->add_option("-o,--output", ec.output, "dataset CSV")->required();
   extract->add_option("--report", ec.report, "per-move report CSV (default OUTPUT.report.csv)");
+  extract->add_option(
+      "--summary", ec.summary, "campaign summary JSON (default OUTPUT.summary.json)");
 
   try {
     app.parse(argc, argv);
     if (plan->parsed()) return run_plan(pc);
     if (extract->parsed()) {
       ec.options.known_clock = offset->count() > 0 || drift->count() > 0;
+      ec.options.clock_offset_s = ec.offset_ms * 1e-3;
+      ec.options.clock_drift = ec.drift_ppm * 1e-6;
+      ec.options.timing_tolerance_s = ec.timing_tolerance_ms * 1e-3;
+      try {
+        for (const auto& [option, value] :
+             {std::pair{dwell, ec.options.dwell_s}, std::pair{smoothing, ec.options.smoothing_s}}) {
+          if (option->count() > 0 && !std::isfinite(value)) {
+            throw cmmcomp::ConfigError(option->get_name() + " " + option->as<std::string>() +
+                                       ": not a number of seconds (leave it out to measure it)");
+          }
+        }
+        measure::check_extract_options(ec.options);
+      } catch (const cmmcomp::ConfigError& e) {
+        std::fprintf(stderr, "cmmcomp-measure extract: %s\n", e.what());
+        return 2;
+      }
       return run_extract(ec);
     }
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cmmcomp-measure: %s\n", e.what());
     return 1;

@@ -512,6 +512,10 @@ int main(int argc, char** argv) {
   record->add_option("--machine", rec.machine_path, "machine file (default: embedded)");
   record->add_flag(
       "--two-clocks", rec.setup.two_clocks, "controller and tracker files on independent clocks");
+  record->add_flag("--sync",
+                   rec.setup.sync,
+                   "a sync marker row in both streams at one trigger per move (with --two-clocks; "
+                   "docs/measurement.md, \"Sync\")");
   record->add_option("--controller-rate", rec.setup.controller_rate_hz, "scale log rate [Hz]")
       ->capture_default_str();
   record->add_option("--tracker-rate", rec.setup.tracker_rate_hz, "tracker rate [Hz]")

@@ -30,6 +30,10 @@ struct RecordingSetup {
   /// nominal time plus a uniform offset of ± this share of the tracker period, in [0, 0.45].
   double tracker_jitter = 0.0;
   double rest_s = 0.3;  ///< rest before each move (and between moves)
+  /// A sync marker in both streams (two clocks): one trigger per move, 0.1 s into its rest,
+  /// recorded as an extra row at the trigger's instant on each clock with `sync` = 1
+  /// (docs/measurement.md, "Sync"), as a tracker's external trigger input records it.
+  bool sync = false;
   std::uint64_t seed = 1;
 };
 
