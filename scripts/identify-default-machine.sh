@@ -18,7 +18,7 @@ sim=build/release/tools/cmmcomp-sim/cmmcomp-sim
   --anova-targets data/paper/table4_anova.csv \
   --grid-mean-targets data/paper/table5_compensation.csv \
   --move-sigma-rel 0.04 --anova-sigma 5 --grid-sigma-rel 0.05 \
-  --free "${FREE:-structure.mode_frequency_hz,structure.participation,structure.shape_growth,hose.time_constant_s,hose.viscous_drag_Ns_per_m,hose.coulomb_drag_N,hose.coulomb_speed_m_per_s,hose.accel_lag_s2,controller.dwell_s,controller.smoothing_s}" \
+  --fixed none --free "${FREE:-structure.mode_frequency_hz,structure.participation,structure.shape_growth,hose.time_constant_s,hose.viscous_drag_Ns_per_m,hose.coulomb_drag_N,hose.coulomb_speed_m_per_s,hose.accel_lag_s2,controller.dwell_s,controller.smoothing_s}" \
   --machine data/machines/default-start.toml --max-iterations "${MAX_ITERATIONS:-25}" \
   $([ "${INTEGRATOR:-cvode}" = cvode ] && echo --cvode) \
   -o build/identified.toml

@@ -44,7 +44,7 @@ for i in $(seq 0 $((starts - 1))); do
   if ! "$sim" identify "$here/data/paper/table1_table2_targets.csv" --magnitudes \
     --anova-targets "$here/data/paper/table4_anova.csv" \
     --grid-mean-targets "$here/data/paper/table5_compensation.csv" \
-    --move-sigma-rel 0.04 --anova-sigma 5 --grid-sigma-rel 0.05 --free "$free" \
+    --move-sigma-rel 0.04 --anova-sigma 5 --grid-sigma-rel 0.05 --fixed none --free "$free" \
     --machine "$start" --max-iterations 40 -o "$out" > "$work/identify$i.log" 2>&1; then
     echo "| $i | failed: $(tail -1 "$work/identify$i.log") | | | | | |"
     continue

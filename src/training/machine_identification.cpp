@@ -317,11 +317,29 @@ IdentificationReport identify_machine(const Machine& start,
 
   std::vector<const Info*> free;
   const auto& table = dynamics::machine_parameter_table();
+  const auto key_of = [](const Info& info) { return std::string(info.section) + "." + info.key; };
+  const auto is_fixed = [&](const std::string& key) {
+    return std::find(options.fixed_parameters.begin(), options.fixed_parameters.end(), key) !=
+           options.fixed_parameters.end();
+  };
+  for (const std::string& name : options.fixed_parameters) {
+    if (std::none_of(
+            table.begin(), table.end(), [&](const Info& i) { return key_of(i) == name; })) {
+      throw ConfigError("identification: unknown fixed parameter '" + name + "'");
+    }
+  }
   if (options.free_parameters.empty()) {
     for (const Info& info : table) {
-      if (info.identifiable) free.push_back(&info);
+      if (info.identifiable && !is_fixed(key_of(info))) free.push_back(&info);
     }
   } else {
+    for (const std::string& name : options.free_parameters) {
+      if (is_fixed(name)) {
+        throw ConfigError("identification: '" + name +
+                          "' is both free and fixed (the controller timing is fixed by default: "
+                          "the recordings measure it; free it with --fixed none)");
+      }
+    }
     for (const std::string& name : options.free_parameters) {
       const Info* found = nullptr;
       for (const Info& info : table) {
@@ -385,8 +403,16 @@ IdentificationReport identify_machine(const Machine& start,
                                            n,
                                            summary.initial_cost,
                                            summary.final_cost);
-  for (int i = 0; i < n; ++i)
-    report.fitted_values.push_back(std::exp(x[static_cast<std::size_t>(i)]));
+  for (std::size_t k = 0; k < free.size(); ++k) {
+    const double v = std::exp(x[k]);
+    report.fitted_values.push_back(v);
+    const Info& info = *free[k];
+    const int bound = v <= info.plausible_min * 1.01 ? -1 : v >= info.plausible_max * 0.99 ? 1 : 0;
+    report.at_bound.push_back(bound);
+    report.bound_values.push_back(bound < 0   ? info.plausible_min
+                                  : bound > 0 ? info.plausible_max
+                                              : 0.0);
+  }
   report.initial_cost = summary.initial_cost;
   report.final_cost = summary.final_cost;
   report.iterations = static_cast<int>(summary.iterations.size());

@@ -283,8 +283,8 @@ int run_anova(const std::string& path, bool json) {
 }
 
 struct IdentifyCommand {
-  std::string measured, machine_path, output, anova_targets, grid_mean_targets, free;
-  bool magnitudes = false, cvode = false;
+  std::string measured, machine_path, output, anova_targets, grid_mean_targets, free, fixed;
+  bool magnitudes = false, cvode = false, fixed_given = false;
   int max_iterations = 50, threads = 0;
   double anova_y_mm = 250;
   double move_sigma_rel = 0.0, anova_sigma = 3.0, grid_sigma_rel = 0.05;
@@ -316,6 +316,12 @@ int run_identify(const IdentifyCommand& cmd) {
     std::string name;
     while (std::getline(names, name, ',')) options.free_parameters.push_back(name);
   }
+  if (cmd.fixed_given) {
+    options.fixed_parameters.clear();
+    std::istringstream names(cmd.fixed == "none" ? std::string() : cmd.fixed);
+    std::string name;
+    while (std::getline(names, name, ',')) options.fixed_parameters.push_back(name);
+  }
   // Progress on a terminal only (an identification takes minutes); quiet in logs and pipes.
   if (isatty(fileno(stderr)) != 0) {
     options.progress = [](int iteration, double cost) {
@@ -332,10 +338,24 @@ int run_identify(const IdentifyCommand& cmd) {
               r.termination.c_str());
   std::printf("%-42s %14s %14s\n", "parameter", "start", "fitted");
   for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
-    std::printf("%-42s %14.6g %14.6g\n",
+    std::printf("%-42s %14.6g %14.6g%s\n",
                 r.free_parameters[i].c_str(),
                 r.start_values[i],
-                r.fitted_values[i]);
+                r.fitted_values[i],
+                r.at_bound[i] < 0   ? "  AT PLAUSIBLE MIN"
+                : r.at_bound[i] > 0 ? "  AT PLAUSIBLE MAX"
+                                    : "");
+  }
+  for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
+    if (r.at_bound[i] == 0) continue;
+    std::fprintf(stderr,
+                 "warning: %s ended at its plausible %s %g: the data want a value outside the "
+                 "plausible range, so a mechanism is missing from the model or a fixed key is "
+                 "wrong (check the controller timing measured by cmmcomp-measure extract); "
+                 "the machine file is written, but treat it with care\n",
+                 r.free_parameters[i].c_str(),
+                 r.at_bound[i] < 0 ? "minimum" : "maximum",
+                 r.bound_values[i]);
   }
   std::printf("\n%-42s %10s %10s %10s\n", "residual", "target", "fitted", "(f-t)/sigma");
   for (const IdentificationResidual& res : r.residuals) {
@@ -574,6 +594,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.001, 1.0))
       ->capture_default_str();
   identify->add_option("--free", id.free, "comma-separated section.key list to fit (default all)");
+  CLI::Option* fixed = identify->add_option(
+      "--fixed",
+      id.fixed,
+      "comma-separated section.key list never fitted, or 'none' (default: the controller "
+      "timing, controller.dwell_s,controller.smoothing_s, which the recordings measure)");
   identify->add_option("--max-iterations", id.max_iterations, "Levenberg-Marquardt iterations")
       ->capture_default_str();
   identify->add_option("--threads", id.threads, "threads (0 = all cores)");
@@ -621,7 +646,10 @@ int main(int argc, char** argv) {
     if (dataset->parsed()) return run_dataset(ds);
     if (anova->parsed()) return run_anova(anova_path, anova_json);
     if (record->parsed()) return run_record(rec);
-    if (identify->parsed()) return run_identify(id);
+    if (identify->parsed()) {
+      id.fixed_given = fixed->count() > 0;
+      return run_identify(id);
+    }
     if (machine_cmd->parsed() && machine_keys) {
       for (const auto& info : cmmcomp::dynamics::machine_parameter_table()) {
         std::printf("| %s | %s | %g .. %g | %g .. %g | %s | %s | %s |\n",

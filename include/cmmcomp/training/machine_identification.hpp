@@ -52,8 +52,13 @@ struct IdentificationTargets {
 
 /// How to fit.
 struct IdentificationOptions {
-  /// Keys ("section.key") of the parameters to fit; empty = every identifiable one.
+  /// Keys ("section.key") of the parameters to fit; empty = every identifiable one that is not
+  /// in `fixed_parameters`.
   std::vector<std::string> free_parameters;
+  /// Keys never fitted: what the recordings fix. By default the controller timing, which
+  /// `cmmcomp-measure extract` measures from the scale traces (docs/measurement.md); naming one
+  /// in `free_parameters` too is a ConfigError.
+  std::vector<std::string> fixed_parameters = {"controller.dwell_s", "controller.smoothing_s"};
   /// Residual scale per parameter [µm]; defaults: the paper's Table 1 standard deviations.
   std::array<double, 4> sigma_um = paper::kTable1Std;
   /// When > 0, the measured moves' residual scale is this fraction of each measured value
@@ -85,7 +90,12 @@ struct IdentificationReport {
   dynamics::Machine fitted;  ///< the start machine with the free parameters fitted
   std::vector<std::string> free_parameters;
   std::vector<double> start_values, fitted_values;  ///< of the free parameters, SI
-  double initial_cost = 0, final_cost = 0;          ///< ½ Σ normalized²
+  /// Per free parameter: −1 at its plausible minimum, +1 at its maximum (within 1 %), else 0.
+  /// A parameter at a bound means the data want a value outside the plausible range: a
+  /// mechanism is missing from the model, or a fixed key is wrong.
+  std::vector<int> at_bound;
+  std::vector<double> bound_values;         ///< the bound each parameter sits at (0 when none)
+  double initial_cost = 0, final_cost = 0;  ///< ½ Σ normalized²
   int iterations = 0;
   std::string termination;  ///< Ceres' message
   bool usable = false;      ///< Ceres converged or stopped at the iteration limit without error
