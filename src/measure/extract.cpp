@@ -1216,8 +1216,9 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
   }
   if (!std::isnan(ex.scale_factor) && std::fabs(ex.scale_factor) * 1e6 > o.max_scale_factor_ppm) {
     ex.warnings.push_back(fmt::format(
-        "the tip and the scale disagree on the positioning's length by {:.0f} ppm (median over "
-        "{} moves, at rest in the dwell; limit {:g} ppm): a tracker not parallel to the axis "
+        "the tip and the scale disagree on the positioning's length by {:.0f} ppm (the slope over "
+        "PD of tip − scale at rest in the dwell, {} moves; limit {:g} ppm): a tracker not parallel "
+        "to the axis "
         "(cosine error: {:.2f}°), its wavelength or unit, or the scale's own error. It was "
         "removed as a static error; align the tracker to the axis",
         ex.scale_factor * 1e6,
