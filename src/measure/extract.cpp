@@ -126,45 +126,76 @@ struct MoveFit {
   double rms_um = 0;
 };
 
-/// Fits start time t0 and offset c so that s(t) ≈ c + p(t − t0), over the move.
-std::string fit_profile(MoveFit& f, double max_rms_um) {
-  const motion::PhaseInstants& in = f.profile.instants();
-  const double half = 0.5 * f.profile.sample(in.positioning_end).position * 1e3;
-  const double s0 = f.ss.front();
-  const double tc = crossing(f.ts, f.ss, s0 + half);
-  if (std::isnan(tc)) return "the scale never moves half the planned PD: not this move";
-  f.t0 = tc - profile_time_at(f.profile, half);
-  f.c = s0;
+/// A fit of the commanded profile's start t0 and offset c to a scale trace.
+struct PhaseFit {
+  enum class Failure { kNone, kNoHalfCrossing, kSingular } failure = Failure::kNone;
+  double t0 = 0, c = 0, rms_um = 0;
+  int samples = 0;  ///< in [0, until], where the RMS is taken
+};
+
+/// Fits t0 and c so that s(t) ≈ c + p(t − t0) over τ ∈ [−0.05, until] (Gauss–Newton, started at
+/// the half-PD crossing); the RMS is over τ ∈ [0, until].
+PhaseFit fit_start_and_offset(const motion::MoveProfile& p,
+                              const std::vector<double>& ts,
+                              const std::vector<double>& ss,
+                              double until) {
+  PhaseFit f;
+  const motion::PhaseInstants& in = p.instants();
+  const double half = 0.5 * p.sample(in.positioning_end).position * 1e3;
+  const double tc = crossing(ts, ss, ss.front() + half);
+  if (std::isnan(tc)) {
+    f.failure = PhaseFit::Failure::kNoHalfCrossing;
+    return f;
+  }
+  f.t0 = tc - profile_time_at(p, half);
+  f.c = ss.front();
   for (int iter = 0; iter < 20; ++iter) {
     double a = 0, b = 0, cc = 0, u = 0, v = 0;
-    for (std::size_t i = 0; i < f.ts.size(); ++i) {
-      const double tau = f.ts[i] - f.t0;
-      if (tau < -0.05 || tau > in.touch) continue;
-      const motion::MotionState m = f.profile.sample(tau);
-      const double r = f.ss[i] - f.c - m.position * 1e3;
-      const double jc = 1.0, jt = -m.velocity * 1e3;  // ∂model/∂c, ∂model/∂t0
-      a += jc * jc;
-      b += jc * jt;
+    for (std::size_t i = 0; i < ts.size(); ++i) {
+      const double tau = ts[i] - f.t0;
+      if (tau < -0.05 || tau > until) continue;
+      const motion::MotionState m = p.sample(tau);
+      const double r = ss[i] - f.c - m.position * 1e3;
+      const double jt = -m.velocity * 1e3;  // ∂model/∂t0; ∂model/∂c = 1
+      a += 1;
+      b += jt;
       cc += jt * jt;
-      u += jc * r;
+      u += r;
       v += jt * r;
     }
     double dc = 0, dt = 0;
-    if (!solve2(a, b, cc, u, v, dc, dt)) return "the scale trace does not cover the move";
+    if (!solve2(a, b, cc, u, v, dc, dt)) {
+      f.failure = PhaseFit::Failure::kSingular;
+      return f;
+    }
     f.c += dc;
     f.t0 += dt;
     if (std::fabs(dt) < 1e-12 && std::fabs(dc) < 1e-9) break;
   }
   double sum = 0;
-  int n = 0;
-  for (std::size_t i = 0; i < f.ts.size(); ++i) {
-    const double tau = f.ts[i] - f.t0;
-    if (tau < 0 || tau > in.touch) continue;
-    const double r = f.ss[i] - f.c - f.profile.sample(tau).position * 1e3;
+  for (std::size_t i = 0; i < ts.size(); ++i) {
+    const double tau = ts[i] - f.t0;
+    if (tau < 0 || tau > until) continue;
+    const double r = ss[i] - f.c - p.sample(tau).position * 1e3;
     sum += r * r;
-    ++n;
+    ++f.samples;
   }
-  f.rms_um = n > 0 ? std::sqrt(sum / n) * 1e3 : 0.0;
+  f.rms_um = f.samples > 0 ? std::sqrt(sum / f.samples) * 1e3 : 0.0;
+  return f;
+}
+
+/// Fits the move's profile to its scale trace up to the touch; the reason it is not this move,
+/// or an empty string.
+std::string fit_profile(MoveFit& f, double max_rms_um) {
+  const motion::PhaseInstants& in = f.profile.instants();
+  const PhaseFit fit = fit_start_and_offset(f.profile, f.ts, f.ss, in.touch);
+  if (fit.failure == PhaseFit::Failure::kNoHalfCrossing) {
+    return "the scale never moves half the planned PD: not this move";
+  }
+  if (fit.failure == PhaseFit::Failure::kSingular) return "the scale trace does not cover the move";
+  f.t0 = fit.t0;
+  f.c = fit.c;
+  f.rms_um = fit.rms_um;
   if (!(f.rms_um <= max_rms_um)) {
     return fmt::format("the scale does not follow the planned profile: {:.1f} µm RMS > {:g}",
                        f.rms_um,
@@ -228,57 +259,14 @@ bool plan_profile(const DatasetRow& settings,
   return motion::MoveProfile::plan(move, out) == Status::kOk;
 }
 
-/// A fit of the commanded profile to one phase of the scale trace.
-struct PhaseFit {
-  bool ok = false;
-  double t0 = 0, c = 0, rms_um = 0;
-};
-
-/// Fits start t0 and offset c of `p` to the scale (ts, ss) over the positioning only,
-/// τ ∈ [−0.05, positioning_end]: what the dwell and the approach cannot change.
-PhaseFit fit_positioning(const motion::MoveProfile& p,
-                         const std::vector<double>& ts,
-                         const std::vector<double>& ss) {
-  PhaseFit f;
-  const motion::PhaseInstants& in = p.instants();
-  const double half = 0.5 * p.sample(in.positioning_end).position * 1e3;
-  const double tc = crossing(ts, ss, ss.front() + half);
-  if (std::isnan(tc)) return f;
-  f.t0 = tc - profile_time_at(p, half);
-  f.c = ss.front();
-  for (int iter = 0; iter < 12; ++iter) {
-    double a = 0, b = 0, cc = 0, u = 0, v = 0;
-    for (std::size_t i = 0; i < ts.size(); ++i) {
-      const double tau = ts[i] - f.t0;
-      if (tau < -0.05 || tau > in.positioning_end) continue;
-      const motion::MotionState m = p.sample(tau);
-      const double r = ss[i] - f.c - m.position * 1e3;
-      const double jt = -m.velocity * 1e3;
-      a += 1;
-      b += jt;
-      cc += jt * jt;
-      u += r;
-      v += jt * r;
-    }
-    double dc = 0, dt = 0;
-    if (!solve2(a, b, cc, u, v, dc, dt)) return f;
-    f.c += dc;
-    f.t0 += dt;
-    if (std::fabs(dt) < 1e-10 && std::fabs(dc) < 1e-7) break;
-  }
-  double sum = 0;
-  int n = 0;
-  for (std::size_t i = 0; i < ts.size(); ++i) {
-    const double tau = ts[i] - f.t0;
-    if (tau < 0 || tau > in.positioning_end) continue;
-    const double r = ss[i] - f.c - p.sample(tau).position * 1e3;
-    sum += r * r;
-    ++n;
-  }
-  if (n < 4) return f;
-  f.rms_um = std::sqrt(sum / n) * 1e3;
-  f.ok = true;
-  return f;
+/// The positioning alone, τ ≤ positioning_end: what the dwell and the approach cannot change.
+/// Usable when the fit converged on at least 4 samples.
+bool fit_positioning(const motion::MoveProfile& p,
+                     const std::vector<double>& ts,
+                     const std::vector<double>& ss,
+                     PhaseFit& out) {
+  out = fit_start_and_offset(p, ts, ss, p.instants().positioning_end);
+  return out.failure == PhaseFit::Failure::kNone && out.samples >= 4;
 }
 
 /// The controller timing one move ran with, measured from its scale trace (docs/measurement.md,
@@ -297,8 +285,8 @@ MeasuredTiming measure_timing(const DatasetRow& settings,
   const auto cost = [&](double s) {
     motion::MoveProfile p;
     if (!plan_profile(settings, 0.0, s, p)) return std::numeric_limits<double>::infinity();
-    const PhaseFit f = fit_positioning(p, ts, ss);
-    return f.ok ? f.rms_um : std::numeric_limits<double>::infinity();
+    PhaseFit f;
+    return fit_positioning(p, ts, ss, f) ? f.rms_um : std::numeric_limits<double>::infinity();
   };
   constexpr double kStep = 0.02, kMax = 0.5;
   double best = 0, best_cost = cost(0.0);
@@ -334,8 +322,8 @@ MeasuredTiming measure_timing(const DatasetRow& settings,
   const double smoothing = cost(s) <= best_cost ? s : best;
   motion::MoveProfile p;
   if (!plan_profile(settings, 0.0, smoothing, p)) return out;
-  const PhaseFit f = fit_positioning(p, ts, ss);
-  if (!f.ok) return out;
+  PhaseFit f;
+  if (!fit_positioning(p, ts, ss, f)) return out;
   out.smoothing = smoothing;
   out.rms_um = f.rms_um;
   // The dwell: the approach of the no-dwell profile shifted by ta onto the scale's approach.
@@ -571,6 +559,101 @@ constexpr std::array<const char*, 4> kParameterLabels = {"MPE", "RPE", "MAE", "R
 
 std::array<double, 4> as_array(const errors::DynamicErrors& e) {
   return {e.mpe, e.rpe, e.mae, e.rae};
+}
+
+/// The parameter the clock's uncertainty moves furthest past its allowance (median over the
+/// extracted moves against `clock_budget_share` × Table 1's σ), described, or an empty string.
+std::string clock_budget_excess(const Extraction& ex, const ExtractOptions& o) {
+  std::string worst;
+  double worst_excess = 0;
+  for (std::size_t p = 0; p < 4; ++p) {
+    std::vector<double> shifts;
+    double largest = 0;
+    for (const MoveExtraction& m : ex.moves) {
+      if (!m.ok) continue;
+      shifts.push_back(m.clock_sensitivity_um[p]);
+      largest = std::max(largest, m.clock_sensitivity_um[p]);
+    }
+    const double median = median_of(shifts);
+    const double allowed = o.clock_budget_share * paper::kTable1Std[p];
+    if (median > allowed && median / allowed > worst_excess) {
+      worst_excess = median / allowed;
+      worst = fmt::format(
+          "{} by {:.2f} µm (median over {} moves; up to {:.2f} µm) against an allowance of "
+          "{:.2f} µm ({:g} × Table 1's σ)",
+          kParameterLabels[p],
+          median,
+          shifts.size(),
+          largest,
+          allowed,
+          o.clock_budget_share);
+    }
+  }
+  return worst;
+}
+
+/// The campaign's noise: the median rest σ of the extracted moves, and each parameter's pooled
+/// σ over the repeats of each run (`run_of_move`, per move), with warnings where a model's
+/// residual floor (mean |noise| = √(2/π)·σ) would exceed 1.5 × the paper's, i.e. σ above 1.5 ×
+/// Table 1's σ.
+void estimate_noise(Extraction& ex, const std::vector<int>& run_of_move) {
+  std::vector<double> rest;
+  std::map<int, std::vector<std::array<double, 4>>> by_run;
+  for (std::size_t k = 0; k < ex.moves.size(); ++k) {
+    const MoveExtraction& m = ex.moves[k];
+    if (!m.ok) continue;
+    rest.push_back(m.rest_noise_um);
+    by_run[run_of_move[k]].push_back({m.row.mpe_um, m.row.rpe_um, m.row.mae_um, m.row.rae_um});
+  }
+  ex.noise.rest_um = median_of(rest);
+  std::array<double, 4> ss{};
+  int dof = 0;
+  for (const auto& [run, values] : by_run) {
+    if (values.size() < 2) continue;
+    dof += static_cast<int>(values.size()) - 1;
+    for (std::size_t p = 0; p < 4; ++p) {
+      double mean = 0;
+      for (const auto& v : values) mean += v[p];
+      mean /= static_cast<double>(values.size());
+      for (const auto& v : values) ss[p] += (v[p] - mean) * (v[p] - mean);
+    }
+  }
+  ex.noise.repeat_dof = dof;
+  for (std::size_t p = 0; p < 4; ++p) {
+    ex.noise.repeat_sd_um[p] = dof > 0 ? std::sqrt(ss[p] / dof) : std::nan("");
+  }
+  constexpr double kNoiseLimit = 1.5;
+  if (dof >= 5) {
+    for (std::size_t p = 0; p < 4; ++p) {
+      const double sd = ex.noise.repeat_sd_um[p], table = paper::kTable1Std[p];
+      if (!(sd > kNoiseLimit * table)) continue;
+      ex.warnings.push_back(fmt::format(
+          "the repeats scatter {} by σ {:.3f} µm ({} degrees of freedom), {:.1f}× Table 1's "
+          "{:.3f} µm: a model's residual floor (√(2/π)·σ = {:.3f} µm) exceeds {:g} × the "
+          "paper's ({:.3f} µm). The tracker's noise at rest is {:.3f} µm; check its noise, "
+          "its mounting and the machine's repeatability",
+          kParameterLabels[p],
+          sd,
+          dof,
+          sd / table,
+          table,
+          std::sqrt(2.0 / M_PI) * sd,
+          kNoiseLimit,
+          kNoiseLimit * std::sqrt(2.0 / M_PI) * table,
+          ex.noise.rest_um));
+    }
+  }
+  const double point_sigma = std::min(paper::kTable1Std[1], paper::kTable1Std[3]);
+  if (ex.noise.rest_um > kNoiseLimit * point_sigma) {
+    ex.warnings.push_back(fmt::format(
+        "the tip sensor's noise at rest is σ {:.3f} µm (median over {} moves), above {:g} × "
+        "Table 1's σ of RAE ({:.3f} µm): RPE and RAE, read at one instant, carry it whole. "
+        "Use a quieter sensor, a higher rate or a filter that keeps the phase",
+        ex.noise.rest_um,
+        rest.size(),
+        kNoiseLimit,
+        point_sigma));
+  }
 }
 
 }  // namespace
@@ -1060,7 +1143,7 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
   // first pass finds a static scale factor between tip and scale (removed in the second).
   std::vector<TraceResult> results(work.size());
   const std::vector<MoveExtraction> before_traces = ex.moves;
-  const auto trace_pass = [&](double scale_factor) {
+  const auto trace_pass = [&](double scale_factor, bool with_sensitivity) {
     ex.moves = before_traces;
     results.assign(work.size(), TraceResult{});
     for (std::size_t k = 0; k < work.size(); ++k) {
@@ -1111,7 +1194,7 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
       out.ok = true;
       // How far the clock's uncertainty moves each parameter: the move extracted again with its
       // clock shifted by ± the uncertainty.
-      if (two_clocks && !known_clock) {
+      if (with_sensitivity && two_clocks && !known_clock) {
         const std::array<double, 4> base = as_array(r.e);
         for (double sign : {-1.0, 1.0}) {
           TraceResult shifted;
@@ -1136,9 +1219,10 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
       }
     }
   };
-  // The static scale factor: tip − scale at rest in the dwell against at rest before the move,
-  // per mm of the positioning (a tracker at an angle to the axis reads cos θ of the travel).
-  trace_pass(0.0);
+  // Pass 1 gives the plateaus for the static scale factor: tip − scale at rest in the dwell
+  // against at rest before the move, per mm of the positioning (a tracker at an angle to the
+  // axis reads cos θ of the travel). Pass 2 extracts with it removed.
+  trace_pass(0.0, false);
   {
     // plateau = b + k·PD over the moves: b is what the stop leaves at rest whatever the
     // distance (friction, a hose's set), k the scale factor; PD must vary for k to be seen.
@@ -1160,44 +1244,14 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
       ex.scale_factor = (n * sxy - sx * sy) / det;
       ex.scale_factor_moves = static_cast<int>(n);
     }
-    if (!std::isnan(ex.scale_factor) && std::fabs(ex.scale_factor) > 1e-6) {
-      trace_pass(ex.scale_factor);
-    }
+    const bool removed = !std::isnan(ex.scale_factor) && std::fabs(ex.scale_factor) > 1e-6;
+    trace_pass(removed ? ex.scale_factor : 0.0, true);
   }
 
   // 4. The campaign's checks: the clock's uncertainty against the budget, the scale factor, the
   // noise at rest and over the repeats.
-  const auto ok_moves = [&] {
-    int n = 0;
-    for (const MoveExtraction& m : ex.moves) n += m.ok;
-    return n;
-  }();
-  if (two_clocks && !known_clock && ok_moves > 0) {
-    std::string worst;
-    double worst_excess = 0;
-    for (std::size_t p = 0; p < 4; ++p) {
-      std::vector<double> shifts;
-      double largest = 0;
-      for (const MoveExtraction& m : ex.moves) {
-        if (!m.ok) continue;
-        shifts.push_back(m.clock_sensitivity_um[p]);
-        largest = std::max(largest, m.clock_sensitivity_um[p]);
-      }
-      const double median = median_of(shifts);
-      const double allowed = o.clock_budget_share * paper::kTable1Std[p];
-      if (median > allowed && median / allowed > worst_excess) {
-        worst_excess = median / allowed;
-        worst = fmt::format(
-            "{} by {:.2f} µm (median over {} moves; up to {:.2f} µm) against an allowance of "
-            "{:.2f} µm ({:g} × Table 1's σ)",
-            kParameterLabels[p],
-            median,
-            shifts.size(),
-            largest,
-            allowed,
-            o.clock_budget_share);
-      }
-    }
+  if (two_clocks && !known_clock) {
+    const std::string worst = clock_budget_excess(ex, o);
     if (!worst.empty()) {
       const std::string message = fmt::format(
           "two clocks aligned from the motion alone: the alignment is uncertain by ±{:.3f} ms "
@@ -1206,92 +1260,27 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
           "a sync event with --clock-offset-ms and --drift-ppm",
           ex.clock.uncertainty_ms,
           worst);
-      if (o.accept_clock_uncertainty) {
-        ex.warnings.push_back(message);
-      } else {
+      if (!o.accept_clock_uncertainty) {
         ex.refusal = message + " (or --accept-clock-uncertainty to extract anyway)";
         return ex;
       }
+      ex.warnings.push_back(message);
     }
   }
   if (!std::isnan(ex.scale_factor) && std::fabs(ex.scale_factor) * 1e6 > o.max_scale_factor_ppm) {
     ex.warnings.push_back(fmt::format(
         "the tip and the scale disagree on the positioning's length by {:.0f} ppm (the slope over "
         "PD of tip − scale at rest in the dwell, {} moves; limit {:g} ppm): a tracker not parallel "
-        "to the axis "
-        "(cosine error: {:.2f}°), its wavelength or unit, or the scale's own error. It was "
-        "removed as a static error; align the tracker to the axis",
+        "to the axis (cosine error: {:.2f}°), its wavelength or unit, or the scale's own error. It "
+        "was removed as a static error; align the tracker to the axis",
         ex.scale_factor * 1e6,
         ex.scale_factor_moves,
         o.max_scale_factor_ppm,
         std::acos(std::min(1.0, 1.0 + std::min(0.0, ex.scale_factor))) * 180 / M_PI));
   }
-  {
-    std::vector<double> rest;
-    for (const MoveExtraction& m : ex.moves) {
-      if (m.ok) rest.push_back(m.rest_noise_um);
-    }
-    ex.noise.rest_um = median_of(rest);
-    // Pooled standard deviation over the repeats of each run.
-    std::map<int, std::vector<std::size_t>> by_run;
-    for (std::size_t k = 0; k < work.size(); ++k) {
-      if (ex.moves[k].ok) by_run[work[k].planned->run].push_back(k);
-    }
-    std::array<double, 4> ss{};
-    int dof = 0;
-    for (const auto& [run, ks] : by_run) {
-      if (ks.size() < 2) continue;
-      dof += static_cast<int>(ks.size()) - 1;
-      for (std::size_t p = 0; p < 4; ++p) {
-        double mean = 0;
-        for (std::size_t k : ks) mean += as_array(results[k].e)[p];
-        mean /= static_cast<double>(ks.size());
-        for (std::size_t k : ks) {
-          const double r = as_array(results[k].e)[p] - mean;
-          ss[p] += r * r;
-        }
-      }
-    }
-    ex.noise.repeat_dof = dof;
-    for (std::size_t p = 0; p < 4; ++p) {
-      ex.noise.repeat_sd_um[p] = dof > 0 ? std::sqrt(ss[p] / dof) : std::nan("");
-    }
-    // The limit: a model's residual floor (mean |noise| = √(2/π)·σ) within 1.5 × the paper's
-    // floor, i.e. σ within 1.5 × Table 1's σ.
-    constexpr double kNoiseLimit = 1.5;
-    if (dof >= 5) {
-      for (std::size_t p = 0; p < 4; ++p) {
-        const double sd = ex.noise.repeat_sd_um[p], table = paper::kTable1Std[p];
-        if (sd > kNoiseLimit * table) {
-          ex.warnings.push_back(fmt::format(
-              "the repeats scatter {} by σ {:.3f} µm ({} degrees of freedom), {:.1f}× Table 1's "
-              "{:.3f} µm: a model's residual floor (√(2/π)·σ = {:.3f} µm) exceeds {:g} × the "
-              "paper's ({:.3f} µm). The tracker's noise at rest is {:.3f} µm; check its noise, "
-              "its mounting and the machine's repeatability",
-              kParameterLabels[p],
-              sd,
-              dof,
-              sd / table,
-              table,
-              std::sqrt(2.0 / M_PI) * sd,
-              kNoiseLimit,
-              kNoiseLimit * std::sqrt(2.0 / M_PI) * table,
-              ex.noise.rest_um));
-        }
-      }
-    }
-    const double point_sigma = std::min(paper::kTable1Std[1], paper::kTable1Std[3]);
-    if (ex.noise.rest_um > kNoiseLimit * point_sigma) {
-      ex.warnings.push_back(fmt::format(
-          "the tip sensor's noise at rest is σ {:.3f} µm (median over {} moves), above {:g} × "
-          "Table 1's σ of RAE ({:.3f} µm): RPE and RAE, read at one instant, carry it whole. "
-          "Use a quieter sensor, a higher rate or a filter that keeps the phase",
-          ex.noise.rest_um,
-          rest.size(),
-          kNoiseLimit,
-          point_sigma));
-    }
-  }
+  std::vector<int> runs;
+  for (const Work& w : work) runs.push_back(w.planned != nullptr ? w.planned->run : 0);
+  estimate_noise(ex, runs);
   return ex;
 }
 

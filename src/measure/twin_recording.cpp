@@ -10,6 +10,7 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/measure/twin_recording.hpp>
+#include <utility>
 
 namespace cmmcomp::measure {
 namespace {
@@ -54,6 +55,19 @@ struct PinkNoise {
     return sum;
   }
 };
+
+/// Marks the sample of (t, x) at time `at` as a sync marker and returns its time: a sample
+/// within 1 µs of it is that sample (times are written to 0.1 µs); otherwise a row with
+/// `value()` is inserted in time order.
+template <typename Value>
+double mark_sync(std::vector<double>& t, std::vector<double>& x, double at, Value value) {
+  const auto near = std::lower_bound(t.begin(), t.end(), at - 1e-6);
+  if (near != t.end() && std::fabs(*near - at) <= 1e-6) return *near;
+  const auto it = std::lower_bound(t.begin(), t.end(), at);
+  x.insert(x.begin() + (it - t.begin()), value());
+  t.insert(it, at);
+  return at;
+}
 
 }  // namespace
 
@@ -132,23 +146,16 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
       if (rec.one_clock) rec.tip_mm.push_back(x0 + d * p);
     }
     if (rec.one_clock) rec.tip_t_s = rec.scale_t_s;
-    // Times are written to 0.1 µs: a trigger within 1 µs of a sample is that sample.
-    const auto near = [](const std::vector<double>& t, double at) {
-      const auto it = std::lower_bound(t.begin(), t.end(), at - 1e-6);
-      return it != t.end() && std::fabs(*it - at) <= 1e-6 ? *it : at;
-    };
     double trigger = session + std::min(0.1, 0.5 * setup.rest_s);  // controller clock
+    const auto twin_at_trigger = [&] {
+      double s = 0, p = 0;
+      tr.at(trigger - start, s, p);
+      return std::pair{x0 + d * s, x0 + d * p};
+    };
     if (setup.sync && !rec.one_clock) {
-      // The controller's marker row, at the trigger's instant (inserted in time order).
-      trigger = near(rec.scale_t_s, trigger);
-      const auto at = std::lower_bound(rec.scale_t_s.begin(), rec.scale_t_s.end(), trigger);
-      const auto i = at - rec.scale_t_s.begin();
-      if (at == rec.scale_t_s.end() || *at != trigger) {
-        double s = 0, p = 0;
-        tr.at(trigger - start, s, p);
-        rec.scale_t_s.insert(at, trigger);
-        rec.scale_mm.insert(rec.scale_mm.begin() + i, x0 + d * s);
-      }
+      // The controller's marker row, at the trigger's instant.
+      trigger =
+          mark_sync(rec.scale_t_s, rec.scale_mm, trigger, [&] { return twin_at_trigger().first; });
       rec.scale_sync_t_s.push_back(trigger);
     }
     if (!rec.one_clock) {
@@ -194,16 +201,10 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
     rec.tip_mm = std::move(x_kept);
     if (setup.sync && !rec.one_clock) {
       // The tracker's marker row: the same trigger on its own clock, never lost.
-      const double tt = near(rec.tip_t_s, trigger * (1.0 - setup.drift) - setup.clock_offset_s);
-      const auto at = std::lower_bound(rec.tip_t_s.begin(), rec.tip_t_s.end(), tt);
-      const auto i = at - rec.tip_t_s.begin();
-      if (at == rec.tip_t_s.end() || *at != tt) {
-        double s = 0, p = 0;
-        tr.at(trigger - start, s, p);
-        rec.tip_t_s.insert(at, tt);
-        rec.tip_mm.insert(rec.tip_mm.begin() + i,
-                          x0 + d * p + setup.white_noise_um * 1e-3 * rng.normal());
-      }
+      const double tt = mark_sync(
+          rec.tip_t_s, rec.tip_mm, trigger * (1.0 - setup.drift) - setup.clock_offset_s, [&] {
+            return twin_at_trigger().second + setup.white_noise_um * 1e-3 * rng.normal();
+          });
       rec.tip_sync_t_s.push_back(tt);
     }
     if (rec.one_clock && rec.tip_t_s.size() != rec.scale_t_s.size()) {

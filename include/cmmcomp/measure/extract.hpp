@@ -72,8 +72,8 @@ struct ExtractOptions {
   double clock_drift = 0.0;
   std::string known_clock_source = "given";  ///< how it is known, for the summary
   /// Aligning two clocks from the motion (no sync, no known clock): the bias the method may
-  /// carry (a lag of the tip is indistinguishable from a clock offset; 0.15 ms on the default
-  /// twin) and the share of Table 1's σ a parameter may move by it before the run is refused.
+  /// carry (a lag of the tip is indistinguishable from a clock offset: docs/measurement.md) and
+  /// the share of Table 1's σ a parameter may move by it before the run is refused.
   double motion_alignment_bias_ms = 0.2;
   double clock_budget_share = 0.5;
   bool accept_clock_uncertainty = false;  ///< warn instead of refusing
