@@ -1174,16 +1174,20 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
         };
       };
       out.clock_offset_ms = delta * 1e3;
+      // The move's parameters with its clock shifted by `shift` [s].
+      const auto trace = [&](double shift, TraceResult& result) {
+        return error_parameters(w.fit,
+                                rec,
+                                w.st,
+                                w.rest,
+                                out.tip_rate_hz,
+                                o.max_gap_ms,
+                                scale_factor,
+                                to_controller(shift),
+                                result);
+      };
       TraceResult& r = results[k];
-      out.reason = error_parameters(w.fit,
-                                    rec,
-                                    w.st,
-                                    w.rest,
-                                    out.tip_rate_hz,
-                                    o.max_gap_ms,
-                                    scale_factor,
-                                    to_controller(0.0),
-                                    r);
+      out.reason = trace(0.0, r);
       out.dropouts = r.dropouts;
       out.longest_gap_ms = r.longest_gap_ms;
       if (!out.reason.empty()) continue;
@@ -1198,18 +1202,7 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
         const std::array<double, 4> base = as_array(r.e);
         for (double sign : {-1.0, 1.0}) {
           TraceResult shifted;
-          if (!error_parameters(w.fit,
-                                rec,
-                                w.st,
-                                w.rest,
-                                out.tip_rate_hz,
-                                o.max_gap_ms,
-                                scale_factor,
-                                to_controller(sign * ex.clock.uncertainty_ms * 1e-3),
-                                shifted)
-                   .empty()) {
-            continue;
-          }
+          if (!trace(sign * ex.clock.uncertainty_ms * 1e-3, shifted).empty()) continue;
           const std::array<double, 4> moved = as_array(shifted.e);
           for (std::size_t p = 0; p < 4; ++p) {
             out.clock_sensitivity_um[p] =
