@@ -62,7 +62,10 @@ extern "C" {
 #define CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED (-103) /**< outside the training domain, rejected */
 #define CMMCOMP_E_BUSY (-104)                    /**< firmware publish: a reader holds the buffer */
 
-/** One probing move, announced before its approach. */
+/** One probing move, announced before its approach. `direction` is d, the direction of motion,
+ * the opposite of the probed surface's normal: d = -IJK (a point on a face with normal
+ * IJK = (1, 0, 0) is approached moving in -X, so d = (-1, 0, 0)); sending the normal instead
+ * flips the sign of every correction without an error (docs/measurement.md, "plan.csv"). */
 typedef struct cmmcomp_move_request {
   uint32_t sequence;   /**< echoed in the correction */
   uint32_t axis;       /**< moving axis, < CMMCOMP_MAX_AXES */

@@ -12,7 +12,10 @@
  *   CMMCOMP_FW_SCALAR   float (default: a Cortex-M7 evaluates it in 8290 instructions) or double
  * Threading: one publisher (main loop) and readers that preempt it (interrupts, higher-priority
  * tasks on the same core), as compensation/static_compensator.hpp explains. Request, correction,
- * flags and codes are those of compensator.h. */
+ * flags and codes are those of compensator.h. The request's `direction` is d, the direction of
+ * motion, the opposite of the probed surface's normal: d = -IJK (a point on a face with normal
+ * IJK = (1, 0, 0) is approached moving in -X, so d = (-1, 0, 0)); sending the normal instead
+ * flips the sign of every correction without an error (docs/measurement.md, "plan.csv"). */
 #ifndef CMMCOMP_COMPENSATOR_FW_H
 #define CMMCOMP_COMPENSATOR_FW_H
 
