@@ -63,6 +63,11 @@ struct Options {
       s.models.push_back(cmmcomp::serving::parse_model_argument(m));
     }
     s.can.interface = can_interface;
+    std::string why;
+    if (!can_interface.empty() &&
+        !cmmcomp::plugins::is_valid_can_interface_name(can_interface, &why)) {
+      throw cmmcomp::ConfigError("--can: " + why);
+    }
     s.can.base_id = cmmcomp::plugins::parse_can_base_id(can_base_id);
     s.can.heartbeat_ms = can_heartbeat_ms;
     s.can.part_timeout_ms = can_part_timeout_ms;

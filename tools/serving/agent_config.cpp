@@ -70,7 +70,9 @@ void read_models(const toml::table& t,
     const std::string full = "models." + k;
     char* end = nullptr;
     const long axis = std::strtol(k.c_str(), &end, 10);
-    if (k.empty() || end == nullptr || *end != '\0' || axis < 0 || axis >= compensation::kMaxAxes) {
+    // The key as the number is written ("0", not "00", "-0" or "+1").
+    if (k.empty() || end == nullptr || *end != '\0' || axis < 0 || axis >= compensation::kMaxAxes ||
+        k != std::to_string(axis)) {
       r.fail(node,
              fmt::format("'{}': the key is the axis, 0 .. {}", full, compensation::kMaxAxes - 1));
     }
@@ -90,6 +92,8 @@ void read_can(const toml::table& t, const Reader& r, CanSettings& can) {
       can.interface = r.string_of(node, full);
       if (can.interface.empty())
         r.fail(node, "'can.interface' is empty (leave out [can] for no CAN)");
+      std::string why;
+      if (!plugins::is_valid_can_interface_name(can.interface, &why)) r.fail(node, why);
     } else if (k == "base_id") {
       try {
         can.base_id = plugins::parse_can_base_id(r.string_of(node, full));

@@ -50,7 +50,10 @@ std::uint32_t parse_can_base_id(const std::string& text) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || text.empty() || v > can::kMaxStandardId - (can::kMessageCount - 1)) {
+  // std::stoul would take a leading blank or sign ("-0", " 0x300"): a user's id starts with a
+  // digit.
+  const bool digit_first = !text.empty() && text[0] >= '0' && text[0] <= '9';
+  if (!digit_first || used != text.size() || v > can::kMaxStandardId - (can::kMessageCount - 1)) {
     throw ConfigError("--can-base-id '" + text + "': expected an 11-bit id ≤ " +
                       format_can_base_id(can::kMaxStandardId - (can::kMessageCount - 1)) +
                       ", e.g. " + format_can_base_id(can::kDefaultBaseId));
@@ -58,14 +61,32 @@ std::uint32_t parse_can_base_id(const std::string& text) {
   return static_cast<std::uint32_t>(v);
 }
 
+bool is_valid_can_interface_name(const std::string& name, std::string* why) {
+  const auto fail = [why](const std::string& message) {
+    if (why != nullptr) *why = message;
+    return false;
+  };
+  if (name.empty() || name.size() >= IFNAMSIZ) {
+    return fail("CAN interface name '" + name + "' is empty or longer than " +
+                std::to_string(IFNAMSIZ - 1) + " bytes");
+  }
+  if (name == "." || name == "..") return fail("CAN interface name '" + name + "' is reserved");
+  for (const char ch : name) {
+    const auto byte = static_cast<unsigned char>(ch);
+    if (ch == '/' || byte <= ' ' || byte == 0x7F) {
+      return fail("CAN interface name '" + name +
+                  "' has a '/', a blank or a control character (Linux refuses it)");
+    }
+  }
+  return true;
+}
+
 bool CanServerOptions::is_valid(std::string* why) const {
   const auto fail = [why](const char* message) {
     if (why != nullptr) *why = message;
     return false;
   };
-  if (interface.empty() || interface.size() >= IFNAMSIZ) {
-    return fail("interface name is empty or longer than 15 characters");
-  }
+  if (!is_valid_can_interface_name(interface, why)) return false;
   if (base_id + can::kHeartbeatOffset > can::kMaxStandardId) {
     return fail("base id + 3 must be an 11-bit identifier (base id <= 0x7FC)");
   }

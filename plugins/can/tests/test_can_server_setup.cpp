@@ -38,6 +38,21 @@ TEST(CanServerSetup, InvalidOptionsAreConfigErrors) {
   EXPECT_TRUE(CanServerOptions{}.is_valid(&why)) << why;
 }
 
+TEST(CanInterfaceName, WhatLinuxRefusesIsRefusedBeforeTheStart) {
+  using cmmcomp::plugins::is_valid_can_interface_name;
+  for (const char* good : {"can0", "vcan0", "c", "can0123456789ab"}) {
+    EXPECT_TRUE(is_valid_can_interface_name(good)) << good;
+  }
+  for (const char* bad : {"", "can0123456789abc", "can/0", "can 0", ".", "..", "a\tb"}) {
+    std::string why;
+    EXPECT_FALSE(is_valid_can_interface_name(bad, &why)) << bad;
+    EXPECT_NE(why.find("CAN interface name"), std::string::npos) << why;
+  }
+  plugins::CanServerOptions o;
+  o.interface = "can/0";
+  EXPECT_FALSE(o.is_valid());
+}
+
 TEST(CanBaseId, FormatAndParseAreInverseAndBadTextIsNamed) {
   using cmmcomp::plugins::format_can_base_id;
   using cmmcomp::plugins::parse_can_base_id;
@@ -46,7 +61,7 @@ TEST(CanBaseId, FormatAndParseAreInverseAndBadTextIsNamed) {
     EXPECT_EQ(parse_can_base_id(format_can_base_id(id)), id);
   }
   EXPECT_EQ(parse_can_base_id("768"), 0x300u);
-  for (const char* bad : {"", "0x7FD", "0x300 ", "-1", "vcan0"}) {
+  for (const char* bad : {"", "0x7FD", "0x300 ", "-1", "vcan0", "-0", " 0x300", "+5", "\t1"}) {
     try {
       (void)parse_can_base_id(bad);
       ADD_FAILURE() << "'" << bad << "' was accepted";

@@ -13,10 +13,15 @@
 
 namespace cmmcomp::plugins {
 
-/// Parses a base identifier as a user writes it ("0x300", "768"): an 11-bit standard id that
-/// leaves room for the protocol's four messages (≤ 0x7FC). Setup only. Throws ConfigError
+/// Parses a base identifier as a user writes it ("0x300", "768"): digits only (no blank, no
+/// sign), an 11-bit standard id that leaves room for the protocol's four messages (≤ 0x7FC). Setup
+/// only. Throws ConfigError
 /// "--can-base-id '…': expected an 11-bit id ≤ 0x7FC, e.g. 0x300".
 std::uint32_t parse_can_base_id(const std::string& text);
+
+/// Whether `name` can name a Linux network interface: 1 to 15 bytes (IFNAMSIZ − 1), no '/', no
+/// blank or control character, not "." or "..". Setup only; `why` gets the reason when not.
+bool is_valid_can_interface_name(const std::string& name, std::string* why = nullptr);
 
 /// A base identifier as users write it and the tools print it: "0x300". parse_can_base_id reads
 /// it back; the tools' --can-base-id defaults are format_can_base_id(can::kDefaultBaseId).
