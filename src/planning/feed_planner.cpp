@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file The feed planner (docs/planner.md): global grid, then a pattern search.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -112,6 +114,21 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
       throw ConfigError("planner: " + which(m) +
                         " has no interval calibration (a format-1 model file); retrain it with "
                         "cmmcomp-train to get U95, which every bound of the planner needs");
+    }
+    const double coverage = std::visit([](const auto& f) { return f.interval.coverage; }, m.model);
+    if (!(problem_.coverage > 0 && problem_.coverage < 1)) {
+      throw ConfigError("planner: the coverage must be in (0, 1)");
+    }
+    if (std::fabs(coverage - problem_.coverage) > 1e-9) {
+      throw ConfigError(fmt::format(
+          "planner: {}'s interval was calibrated at {:g} % coverage, the budget is at {:g} %: "
+          "retrain it with cmmcomp-train fit --interval-coverage {:g}, or state the budget at "
+          "the model's coverage (cmmcomp-plan --coverage {:g})",
+          which(m),
+          coverage * 100,
+          problem_.coverage * 100,
+          problem_.coverage,
+          coverage));
     }
   }
   if (!positive_finite(problem_.budget_um)) {

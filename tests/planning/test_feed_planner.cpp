@@ -529,3 +529,28 @@ TEST(FeedPlannerQualified, ItsErrorsAreClear) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(FeedPlanner, AModelCalibratedAtAnotherCoverageIsRefusedNamingBoth) {
+  PlanProblem p = small_domain(5.0);
+  // The shipped model's interval is at 95 %: a budget stated at 90 % cannot use it.
+  p.coverage = 0.90;
+  try {
+    const FeedPlanner planner(shipped_model(), p);
+    ADD_FAILURE() << "a budget at 90 % planned with a 95 % interval";
+  } catch (const cmmcomp::ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("calibrated at 95 % coverage, the budget is at 90 %"), std::string::npos)
+        << what;
+  }
+  // A model whose interval was calibrated at 50 % is refused at the default 95 %.
+  CompensationModelFile half = shipped_model();
+  std::visit([](auto& f) { f.interval.coverage = 0.5; }, half);
+  p.coverage = 0.95;
+  EXPECT_THROW(FeedPlanner(half, p), cmmcomp::ConfigError);
+  p.coverage = 0.5;
+  EXPECT_NO_THROW(FeedPlanner(half, p));
+}
+
+}  // namespace

@@ -44,6 +44,7 @@ struct Options {
   int brute_force = 0;
   double trained_pa = 200.0;
   double trained_aa = 60.0;
+  double coverage = 0.95;
   std::string vc_settings;
   bool json = false;
   std::string reversal_map;  // Y=UM,…: the qualified reference's map (cmmcomp-vc --qualify)
@@ -239,6 +240,7 @@ int run(const Options& opt, bool y_given) {
   p.grid_points = opt.grid;
   p.pa_mm_s2_model = opt.trained_pa;
   p.aa_mm_s2_model = opt.trained_aa;
+  p.coverage = opt.coverage;
   p.edge_margin = opt.edge_margin;
   if (!opt.reversal_map.empty())
     p.qualified = parse_reversal_map(opt.reversal_map, opt.sphere_y_mm);
@@ -298,6 +300,7 @@ int run(const Options& opt, bool y_given) {
                         {"models_per_y", planner.models_per_y()},
                         {"models", models},
                         {"budget_um", p.budget_um},
+                        {"coverage", p.coverage},
                         {"budget_source", budget_source},
                         {"mae_limit_um", p.mae_limit_um},
                         {"y_mm", p.y_mm},
@@ -336,10 +339,11 @@ int run(const Options& opt, bool y_given) {
         "model {} ({} inputs)", planner.model_ids().front(), planner.model_inputs().front());
   }
   std::string out = fmt::format(
-      "cmmcomp-plan: {}; point budget {:.3f} µm at 95 % ({}); "
+      "cmmcomp-plan: {}; point budget {:.3f} µm at {:g} % ({}); "
       "|MAE| + U95 <= {} µm\n",
       models,
       p.budget_um,
+      p.coverage * 100,
       budget_source,
       p.mae_limit_um);
   std::string ys;
@@ -409,7 +413,8 @@ int run(const Options& opt, bool y_given) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "cmmcomp-plan: the fastest probing setting whose point error meets a budget at 95 %, with "
+      "cmmcomp-plan: the fastest probing setting whose point error meets a budget at a coverage "
+      "(95 %), with "
       "the model's correction and without it (docs/planner.md)."};
   Options opt;
   auto* one_model = app.add_option("--model",
@@ -424,6 +429,12 @@ int main(int argc, char** argv) {
   auto* budget =
       app.add_option("--budget-um", opt.budget_um, "point error budget [µm] (instead of --mpe-e)")
           ->check(CLI::PositiveNumber);
+  app.add_option("--coverage",
+                 opt.coverage,
+                 "the coverage the budget is stated at; every model's interval must have been "
+                 "calibrated at it (cmmcomp-train fit --interval-coverage)")
+      ->check(CLI::Range(0.5, 0.999))
+      ->capture_default_str();
   auto* mpe_e =
       app.add_option("--mpe-e", opt.mpe_e, "A,K of MPE_E = A + L/K µm")->capture_default_str();
   auto* length = app.add_option("--length", opt.length_mm, "length L of the MPE_E budget [mm]")

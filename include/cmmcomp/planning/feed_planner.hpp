@@ -44,7 +44,11 @@ struct FeedSetting {
 /// What the planner is asked. Every limit is intersected with the model's training range of the
 /// same input; an empty intersection is a ConfigError.
 struct PlanProblem {
-  double budget_um = 0.0;  ///< bound on |point error| at 95 % [µm], > 0
+  double budget_um = 0.0;  ///< bound on |point error| at `coverage` [µm], > 0
+  /// The coverage the budget is stated at, in (0, 1): every model's interval must have been
+  /// calibrated at it (a model file's `uncertainty.coverage`), else ConfigError. Its U95 is
+  /// then that coverage's half-width.
+  double coverage = 0.95;
   /// Bound on |MAE| + U95(MAE) [µm], > 0: the approach's largest lag, which the probe's
   /// overtravel and the stylus load allow. Default: generous for a touch-trigger probe.
   double mae_limit_um = 25.0;
