@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/training/evaluation.hpp>
 #include <sstream>
 
@@ -24,6 +25,48 @@ std::size_t checked_size(const TestSetPredictions& p) {
 }
 
 }  // namespace
+
+HeldOutCheck held_out_check(const std::array<Table5Row, kErrors.size()>& table,
+                            const std::array<double, kErrors.size()>& coverage_pct,
+                            double nominal_coverage_pct,
+                            std::size_t samples) {
+  HeldOutCheck c;
+  c.nominal_coverage_pct = nominal_coverage_pct;
+  c.passed = true;
+  const double q = nominal_coverage_pct / 100.0;
+  const double binomial_2sigma =
+      samples > 0 ? 200.0 * std::sqrt(q * (1.0 - q) / static_cast<double>(samples)) : 100.0;
+  c.coverage_band_pct = std::max(kCoverageTolerancePct, binomial_2sigma);
+  const double lo = nominal_coverage_pct - c.coverage_band_pct;
+  const double hi = nominal_coverage_pct + c.coverage_band_pct;
+  for (std::size_t o = 0; o < kErrors.size(); ++o) {
+    HeldOutCheck::Parameter& p = c.parameters[o];
+    p.reduction_pct = table[o].reduction_pct;
+    p.paper_reduction_pct = paper::kTable5Reduction[o];
+    p.coverage_pct = coverage_pct[o];
+    p.reduction_met = p.reduction_pct >= p.paper_reduction_pct;
+    p.coverage_met = p.coverage_pct >= lo && p.coverage_pct <= hi;
+    const auto add = [&](const std::string& what) {
+      c.missed += (c.missed.empty() ? "" : "; ") + what;
+    };
+    if (!p.reduction_met) {
+      add(fmt::format("{} reduction {:.1f} % < {:.1f} %",
+                      kErrors[o].label,
+                      p.reduction_pct,
+                      p.paper_reduction_pct));
+    }
+    if (!p.coverage_met) {
+      add(std::isnan(p.coverage_pct) ? fmt::format("{} has no interval", kErrors[o].label)
+                                     : fmt::format("{} coverage {:.1f} % outside {:.1f}–{:.1f} %",
+                                                   kErrors[o].label,
+                                                   p.coverage_pct,
+                                                   lo,
+                                                   hi));
+    }
+    c.passed = c.passed && p.reduction_met && p.coverage_met;
+  }
+  return c;
+}
 
 std::array<Table5Row, kErrors.size()> table5(const TestSetPredictions& p) {
   const std::size_t n = checked_size(p);

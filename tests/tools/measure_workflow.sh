@@ -47,6 +47,22 @@ set -e
 if "$measure" extract --plan dup.csv --recordings campaign/rec -o d.csv 2>dup.txt; then exit 1; fi
 grep -q 'is also on line' dup.txt
 "$train" fit campaign/dataset.csv -o campaign/model.json
+# The held-out check on the machine's own moves: a verdict line, and an exit status that says it.
+"$measure" plan --design l18 --repeats 3 --nominal 100,250,-50 --normal 1,0,0 --holdout 30 \
+  -o withheld | tee withheld.txt
+grep -q '^planned 30 held-out moves (lhs design, seed 2) to withheld/holdout' withheld.txt
+cmp -s withheld/plan.csv campaign/plan.csv
+"$sim" record --plan withheld/holdout/plan.csv --two-clocks --sync --white-noise-um 0.3 \
+  -o withheld/rec > /dev/null
+"$measure" extract --plan withheld/holdout/plan.csv --recordings withheld/rec -o holdout.csv
+set +e
+"$train" eval campaign/model.json holdout.csv --check > check.txt
+status=$?
+set -e
+cat check.txt
+if grep -q 'held-out check .*: PASS$' check.txt; then [ $status = 0 ]; else
+  grep -q 'held-out check .*: FAIL: ' check.txt && [ $status = 1 ]
+fi
 "$sim" dataset --design lhs --samples 60 --noise --seed 2 -o test.csv
 "$train" eval campaign/model.json test.csv | tee eval.txt
 grep -q 'reduction' eval.txt

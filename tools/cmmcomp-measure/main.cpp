@@ -48,16 +48,25 @@ measure::Vec3 parse_vec3(const std::string& text, const char* option) {
 struct PlanCommand {
   measure::PlanOptions options;
   std::string nominal, normal = "1,0,0", out;
+  int holdout = 0;                 ///< moves of a held-out Latin-hypercube campaign (0: none)
+  std::uint64_t holdout_seed = 0;  ///< its seed (0: the plan's seed + 1)
 };
+
+/// Writes plan.csv and plan.ipp of `options` into `dir`; returns the moves.
+std::vector<measure::PlannedMove> write_plan(const measure::PlanOptions& options,
+                                             const std::string& dir) {
+  const std::vector<measure::PlannedMove> moves = measure::plan_experiment(options);
+  std::filesystem::create_directories(dir);
+  cmmcomp::io::write_file_atomically(dir + "/plan.csv", measure::format_plan_csv(moves));
+  cmmcomp::io::write_file_atomically(dir + "/plan.ipp",
+                                     measure::format_ipp_program(moves, options));
+  return moves;
+}
 
 int run_plan(PlanCommand cmd) {
   if (!cmd.nominal.empty()) cmd.options.nominal = parse_vec3(cmd.nominal, "--nominal");
   cmd.options.normal = parse_vec3(cmd.normal, "--normal");
-  const std::vector<measure::PlannedMove> moves = measure::plan_experiment(cmd.options);
-  std::filesystem::create_directories(cmd.out);
-  cmmcomp::io::write_file_atomically(cmd.out + "/plan.csv", measure::format_plan_csv(moves));
-  cmmcomp::io::write_file_atomically(cmd.out + "/plan.ipp",
-                                     measure::format_ipp_program(moves, cmd.options));
+  const std::vector<measure::PlannedMove> moves = write_plan(cmd.options, cmd.out);
   std::printf(
       "planned %zu moves (%s design, %d repeat(s), seed %llu) in randomised run order:\n"
       "  %s/plan.csv  the moves (docs/measurement.md)\n"
@@ -68,6 +77,21 @@ int run_plan(PlanCommand cmd) {
       static_cast<unsigned long long>(cmd.options.seed),
       cmd.out.c_str(),
       cmd.out.c_str());
+  if (cmd.holdout > 0) {
+    // The check on the user's machine: moves the model never sees, spread over the same box.
+    measure::PlanOptions held = cmd.options;
+    held.design = "lhs";
+    held.lhs_samples = cmd.holdout;
+    held.repeats = 1;
+    held.seed = cmd.holdout_seed != 0 ? cmd.holdout_seed : cmd.options.seed + 1;
+    const std::vector<measure::PlannedMove> check = write_plan(held, cmd.out + "/holdout");
+    std::printf(
+        "planned %zu held-out moves (lhs design, seed %llu) to %s/holdout: record and extract "
+        "them like the training campaign, then cmmcomp-train eval MODEL HOLDOUT.csv --check\n",
+        check.size(),
+        static_cast<unsigned long long>(held.seed),
+        cmd.out.c_str());
+  }
   return 0;
 }
 
@@ -245,6 +269,13 @@ int main(int argc, char** argv) {
   plan->add_option("--retract", pc.options.retract_mm, "I++ PtMeasPar.Retract [mm]")
       ->capture_default_str();
   plan->add_option("-o,--out", pc.out, "output directory")->required();
+  plan->add_option("--holdout",
+                   pc.holdout,
+                   "also plan N held-out Latin-hypercube moves in OUT/holdout (the check of a "
+                   "model on this machine)")
+      ->check(CLI::Range(0, 100000));
+  plan->add_option(
+      "--holdout-seed", pc.holdout_seed, "the held-out plan's seed (default SEED + 1)");
 
   ExtractCommand ec;
   CLI::App* extract =

@@ -153,7 +153,8 @@ template <typename Inputs>
 int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
              const std::string& data,
              bool json,
-             const std::string& plot) {
+             const std::string& plot,
+             bool check) {
   constexpr int kInputs = Inputs::kCount;
   const auto rows = cmmcomp::io::read_dataset_csv(data);
   const auto samples = cmmcomp::training::samples<Inputs>(rows);
@@ -186,6 +187,10 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
     return 100.0 * static_cast<double>(covered[o]) / static_cast<double>(n);
   };
   const auto t = cmmcomp::training::table5(p);
+  std::array<double, 4> coverages{};
+  for (std::size_t o = 0; o < 4; ++o) coverages[o] = has_interval ? coverage_pct(o) : std::nan("");
+  const cmmcomp::training::HeldOutCheck verdict =
+      cmmcomp::training::held_out_check(t, coverages, 100.0 * file.interval.coverage, n);
   if (json) {
     nlohmann::json j;
     for (std::size_t o = 0; o < 4; ++o) {
@@ -200,6 +205,11 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
       }
     }
     j["interval_coverage_nominal_pct"] = 100.0 * file.interval.coverage;
+    if (check) {
+      j["check"] = {{"passed", verdict.passed},
+                    {"missed", verdict.missed},
+                    {"coverage_band_pct", verdict.coverage_band_pct}};
+    }
     j["samples"] = n;
     j["outside_domain"] = outside;
     std::printf("%s\n", j.dump(2).c_str());
@@ -248,6 +258,16 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
                   file.format_version);
     }
   }
+  if (check && !json) {
+    std::printf(
+        "held-out check (each reduction >= the paper's Table 5, each coverage within "
+        "%.0f +- %.1f %% for %zu samples): %s%s\n",
+        100.0 * file.interval.coverage,
+        verdict.coverage_band_pct,
+        n,
+        verdict.passed ? "PASS" : "FAIL: ",
+        verdict.missed.c_str());
+  }
   if (!plot.empty()) {
     // The paper's Fig. 5: measured, predicted and residual for 50 test samples per parameter.
     const std::string dat = plot + ".dat";
@@ -261,7 +281,7 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
     }
     std::printf("wrote %s\n", plot.c_str());
   }
-  return 0;
+  return check && !verdict.passed ? 1 : 0;
 }
 
 }  // namespace
@@ -317,6 +337,12 @@ int main(int argc, char** argv) {
   eval->add_option("data", data_path, "test dataset")->required();
   eval->add_flag("--json", json, "print one JSON object keyed mpe rpe mae rae");
   eval->add_option("--plot", plot_path, "draw the paper's Fig. 5 to this PNG (gnuplot)");
+  bool check = false;
+  eval->add_flag("--check",
+                 check,
+                 "the held-out check: exit 1 unless every reduction reaches the paper's Table 5 "
+                 "and every interval covers within 3 points of its nominal coverage (or the "
+                 "binomial 2-sigma band of the sample count, if wider)");
 
   CLI::App* exp = app.add_subcommand(
       "export", "write a model as a constexpr C++ header or a C source for the firmware ABI");
@@ -353,7 +379,8 @@ int main(int argc, char** argv) {
       const auto any = cmmcomp::io::load_compensation_model(model_path);
       if (eval->parsed()) {
         return std::visit(
-            [&](const auto& file) { return run_eval(file, data_path, json, plot_path); }, any);
+            [&](const auto& file) { return run_eval(file, data_path, json, plot_path, check); },
+            any);
       }
       if (header_path.empty() && c_source_path.empty()) {
         std::fprintf(stderr, "cmmcomp-train export: give --header or --c-source\n");

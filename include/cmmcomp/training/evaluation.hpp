@@ -32,6 +32,34 @@ struct TestSetPredictions {
 /// Table 5 of each parameter. Throws ConfigError for an empty set or vectors of other lengths.
 std::array<Table5Row, kErrors.size()> table5(const TestSetPredictions& p);
 
+/// The check of a model on a held-out campaign of the user's machine (docs/measurement.md,
+/// "The held-out check"): each parameter's reduction must reach the paper's Table 5 reduction,
+/// and its interval's coverage must lie within ±3 points of the nominal coverage, or within
+/// the binomial 2σ band of the sample count when that is wider (60 samples: ±5.6 points at 95 %),
+/// so that a small campaign does not fail by chance.
+struct HeldOutCheck {
+  struct Parameter {
+    bool reduction_met = false;
+    bool coverage_met = false;
+    double reduction_pct = 0, paper_reduction_pct = 0;
+    double coverage_pct = 0;  ///< NaN when the model has no interval
+  };
+  std::array<Parameter, kErrors.size()> parameters{};
+  double nominal_coverage_pct = 0;
+  double coverage_band_pct = 0;  ///< the ± band used
+  bool passed = false;
+  std::string
+      missed;  ///< e.g. "RPE reduction 87.2 % < 90.8 %; RAE coverage 88.0 % outside 92–98 %"
+};
+inline constexpr double kCoverageTolerancePct = 3.0;
+
+/// The verdict from a test set's Table 5 and each parameter's measured coverage [%] (NaN: none;
+/// a model without an interval fails the coverage check).
+HeldOutCheck held_out_check(const std::array<Table5Row, kErrors.size()>& table,
+                            const std::array<double, kErrors.size()>& coverage_pct,
+                            double nominal_coverage_pct,
+                            std::size_t samples);
+
 /// The paper's Fig. 5 for gnuplot: `data` (one line per shown sample: index, then measured,
 /// predicted and residual of each parameter) and `script`, which reads `data_path` and draws a
 /// 2×2 PNG to `png_path`. At most 50 samples, spread evenly over the set (deterministic).
