@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# ctest tool_measure_workflow: README's "From a real machine to a model" as a user runs it, on
+# ctest tool_measure_workflow: the real-machine workflow (docs/measurement.md) as a user runs it, on
 # the twin: plan -> record (two clocks, offset, drift, noise) -> extract -> fit -> eval; then a
 # recording with a move removed and one cut short must still extract, with those skipped and
 # their reasons reported; and the same campaign as one continuous session recording.

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# ctest docs_readme_snippets: every ```cpp or ```c block of README.md's "Library" section is an
+# ctest docs_readme_snippets: every ```cpp or ```c block of docs/library.md's "Library" section is an
 # excerpt of one program in examples/: its lines (leading blanks ignored) occur in that file in
-# the same order. So the README shows code that CI builds and runs (consumer_find_package).
-# Usage: readme_snippets.sh README.md EXAMPLES_DIR
+# the same order. So the page shows code that CI builds and runs (consumer_find_package).
+# Usage: readme_snippets.sh docs/library.md EXAMPLES_DIR
 set -euo pipefail
 readme=$1 examples=$2
 section=$(awk '/^## Library/{on=1; next} /^## /{on=0} on' "$readme")
@@ -33,7 +33,7 @@ for block in "${blocks[@]}"; do
   if [ -n "$found" ]; then
     echo "readme_snippets: $(basename "$block"): $(basename "$found")"
   else
-    echo "readme_snippets: FAIL: this README block is in no example:"
+    echo "readme_snippets: FAIL: this block of the page is in no example:"
     cat "$block"
     failed=1
   fi
