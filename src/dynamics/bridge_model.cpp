@@ -111,9 +111,19 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
         "carriage position Y = {} m is outside 0 .. {} m", carriage_y_m, kMaxCarriageY));
   }
   motion::MoveProfile profile;
-  const Status planned =
-      motion::MoveProfile::plan(controlled_move(impl_->machine.parameters, move), profile);
+  const motion::ProbingMove controlled = controlled_move(impl_->machine.parameters, move);
+  const Status planned = motion::MoveProfile::plan(controlled, profile);
   if (!ok(planned)) {
+    const motion::MoveParameterProblem bad = motion::first_invalid_parameter(controlled);
+    if (bad.label != nullptr) {
+      throw Error(fmt::format("cannot plan the move: {} = {:g} {} is outside {:g} .. {:g} {}",
+                              bad.label,
+                              bad.value,
+                              bad.unit,
+                              bad.min,
+                              bad.max,
+                              bad.unit));
+    }
     throw Error(std::string("cannot plan the move: ") + to_string(planned));
   }
   Impl& m = *impl_;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cmmcomp/detail/did_you_mean.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
@@ -279,6 +280,24 @@ ModalSummary modal_summary(const MachineParameters& p) {
   return s;
 }
 
+std::vector<std::string> implausible_parameters(const MachineParameters& p) {
+  std::vector<std::string> out;
+  for (const Info& info : machine_parameter_table()) {
+    const double v = info.get(p);
+    if (v >= info.plausible_min && v <= info.plausible_max) continue;
+    out.push_back(fmt::format(
+        "machine parameter '{}.{}' = {} is outside its plausible range [{:g}, {:g}] ({}): check "
+        "the value and its unit",
+        info.section,
+        info.key,
+        v,
+        info.plausible_min,
+        info.plausible_max,
+        info.basis));
+  }
+  return out;
+}
+
 bool is_physical(const MachineParameters& p, std::string* why) {
   for (const Info& info : machine_parameter_table()) {
     const double v = info.get(p);
@@ -361,10 +380,16 @@ Machine parse_machine(const std::string& text, const std::string& source) {
       // Name the first key when there is one (the likelier typo), else the section itself.
       if (!section->empty()) {
         const auto first = section->begin();
+        std::vector<std::string> sections;
+        for (const Info& info : machine_parameter_table()) sections.push_back(info.section);
         throw ConfigError(where(first->second) + ": unknown key '" + k + "." +
-                          std::string(first->first.str()) + "' (no section '" + k + "')");
+                          std::string(first->first.str()) + "' (no section '" + k + "')" +
+                          detail::did_you_mean(k, sections));
       }
-      throw ConfigError(where(node) + ": unknown section '" + k + "'");
+      std::vector<std::string> sections;
+      for (const Info& info : machine_parameter_table()) sections.push_back(info.section);
+      throw ConfigError(where(node) + ": unknown section '" + k + "'" +
+                        detail::did_you_mean(k, sections));
     }
     for (auto&& [sub, value] : *section) {
       const std::string full = k + "." + std::string(sub.str());
@@ -372,7 +397,14 @@ Machine parse_machine(const std::string& text, const std::string& source) {
       for (const Info& candidate : machine_parameter_table()) {
         if (k == candidate.section && sub.str() == candidate.key) info = &candidate;
       }
-      if (info == nullptr) throw ConfigError(where(value) + ": unknown key '" + full + "'");
+      if (info == nullptr) {
+        std::vector<std::string> keys;
+        for (const Info& candidate : machine_parameter_table()) {
+          if (k == candidate.section) keys.push_back(candidate.key);
+        }
+        throw ConfigError(where(value) + ": unknown key '" + full + "'" +
+                          detail::did_you_mean(std::string(sub.str()), keys));
+      }
       const std::optional<double> v = value.value<double>();
       if (!v || !(value.is_floating_point() || value.is_integer())) {
         throw ConfigError(where(value) + ": key '" + full + "' must be a number");

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cmmcomp/detail/did_you_mean.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cstdio>
@@ -384,6 +385,38 @@ TEST(MachineFile, UnknownKeyInsideAKnownSectionNamesKeyAndLine) {
     EXPECT_TRUE(contains(msg, at_line(section + 2))) << msg;
     EXPECT_TRUE(contains(msg, "unknown key '" + std::string(info.section) + ".bogus_key'")) << msg;
   }
+}
+
+TEST(MachineFile, AMisspeltKeyOrSectionGetsTheClosestName) {
+  std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+  const int i = find_line(lines, "mode_frequency_hz =");
+  ASSERT_GE(i, 0);
+  lines[static_cast<std::size_t>(i)] = "mode_frequncy_hz = 19";
+  std::string msg = error_of(join_lines(lines));
+  EXPECT_TRUE(contains(msg,
+                       "unknown key 'structure.mode_frequncy_hz' (did you mean "
+                       "'mode_frequency_hz'?)"))
+      << msg;
+  lines = split_lines(format_machine(default_machine()));
+  lines.push_back("[structur]");
+  lines.push_back("mass_kg = 1");
+  msg = error_of(join_lines(lines));
+  EXPECT_TRUE(contains(msg, "(did you mean 'structure'?)")) << msg;
+  // Nothing close: no guess.
+  lines = split_lines(format_machine(default_machine()));
+  lines.push_back("[turbo]");
+  lines.push_back("boost_kg = 1");
+  EXPECT_FALSE(contains(error_of(join_lines(lines)), "did you mean")) << msg;
+}
+
+TEST(DidYouMean, TheClosestCandidateWithinATypo) {
+  using cmmcomp::detail::did_you_mean;
+  using cmmcomp::detail::edit_distance;
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  EXPECT_EQ(edit_distance("", "abc"), 3u);
+  EXPECT_EQ(did_you_mean("--pvv", {"--pv", "--pd", "--av"}), " (did you mean '--pv'?)");
+  EXPECT_EQ(did_you_mean("--zz", {"--pv", "--pd"}), "");
+  EXPECT_EQ(did_you_mean("--pv", {"--pv"}), "") << "an exact name is not a typo";
 }
 
 TEST(MachineFile, EveryMissingKeyIsNamed) {

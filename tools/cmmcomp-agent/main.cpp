@@ -30,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "../common/usage.hpp"
 #include "agent_config.hpp"
 #include "domain_policy_option.hpp"
 #include "model_slots.hpp"
@@ -368,7 +369,11 @@ int main(int argc, char** argv) {
           ->check(CLI::IsMember(std::vector<std::string>(std::begin(cmmcomp::serving::kLogLevels),
                                                          std::end(cmmcomp::serving::kLogLevels))));
   app.set_version_flag("--version", std::string("cmmcomp-agent ") + CMMCOMP_VERSION_STRING);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cmmcomp::tools::usage_exit(app, e);
+  }
   for (CLI::Option* o : {models, can, modbus, unit, policy, level}) {
     if (config->count() > 0 && o->count() > 0) {
       std::fprintf(stderr,

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "../common/usage.hpp"
+
 namespace {
 
 namespace measure = cmmcomp::measure;
@@ -128,6 +130,9 @@ std::string seconds(double v) { return std::isnan(v) ? "-" : fmt::format("{:.3f}
 int run_extract(ExtractCommand cmd) {
   if (!cmd.machine_path.empty()) {
     const cmmcomp::dynamics::Machine m = cmmcomp::dynamics::load_machine(cmd.machine_path);
+    for (const std::string& w : cmmcomp::dynamics::implausible_parameters(m.parameters)) {
+      std::fprintf(stderr, "warning: %s: %s\n", cmd.machine_path.c_str(), w.c_str());
+    }
     if (std::isnan(cmd.options.dwell_s)) cmd.options.dwell_s = m.parameters.controller_dwell_s;
     if (std::isnan(cmd.options.smoothing_s))
       cmd.options.smoothing_s = m.parameters.controller_smoothing_s;
@@ -352,8 +357,7 @@ int main(int argc, char** argv) {
       return run_extract(ec);
     }
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    return cmmcomp::tools::usage_exit(app, e);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cmmcomp-measure: %s\n", e.what());
     return 1;

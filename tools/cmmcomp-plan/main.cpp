@@ -18,6 +18,8 @@
 #include <variant>
 #include <vector>
 
+#include "../common/usage.hpp"
+
 namespace {
 
 namespace planning = cmmcomp::planning;
@@ -205,6 +207,9 @@ int run(const Options& opt, bool y_given) {
   const cmmcomp::dynamics::Machine machine = opt.machine.empty()
                                                  ? cmmcomp::dynamics::default_machine()
                                                  : cmmcomp::dynamics::load_machine(opt.machine);
+  for (const std::string& w : cmmcomp::dynamics::implausible_parameters(machine.parameters)) {
+    std::fprintf(stderr, "warning: %s: %s\n", opt.machine.c_str(), w.c_str());
+  }
   planning::PlanProblem p;
   std::string budget_source;
   if (opt.budget_um > 0) {
@@ -503,7 +508,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return cmmcomp::tools::usage_exit(app, e);
   }
   try {
     return run(opt, y_option->count() > 0);

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/usage.hpp"
 #include "can_session.hpp"
 #include "domain_policy_option.hpp"
 #include "modbus_session.hpp"
@@ -176,7 +177,11 @@ int main(int argc, char** argv) {
                  "the agent's longest gap between the frames of one request")
       ->capture_default_str()
       ->check(CLI::Range(1, 60'000));
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cmmcomp::tools::usage_exit(app, e);
+  }
   try {
     return run(opt);
   } catch (const cmmcomp::ConfigError& e) {

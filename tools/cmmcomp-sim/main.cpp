@@ -32,6 +32,8 @@
 #include <sstream>
 #include <string>
 
+#include "../common/usage.hpp"
+
 namespace {
 
 constexpr double kMm = 1e-3;  // mm -> m
@@ -42,14 +44,42 @@ struct MoveFlags {
          pd = cmmcomp::paper::kBaseline.pd_mm, av = cmmcomp::paper::kBaseline.av_mm_s,
          aa = cmmcomp::paper::kBaseline.aa_mm_s2, ad = cmmcomp::paper::kBaseline.ad_mm, jerk = 0;
 
+  /// Each flag checked against motion::MoveLimits (in mm): a bad value is a usage error that
+  /// names the flag and its range.
   void add_to(CLI::App& app) {
-    app.add_option("--pv", pv, "positioning speed PV [mm/s]")->capture_default_str();
-    app.add_option("--pa", pa, "positioning acceleration PA [mm/s^2]")->capture_default_str();
-    app.add_option("--pd", pd, "positioning distance PD [mm]")->capture_default_str();
-    app.add_option("--av", av, "approach speed AV [mm/s]")->capture_default_str();
-    app.add_option("--aa", aa, "approach acceleration AA [mm/s^2]")->capture_default_str();
-    app.add_option("--ad", ad, "approach distance AD [mm]")->capture_default_str();
-    app.add_option("--jerk", jerk, "jerk limit [mm/s^3]; 0 = trapezoidal")->capture_default_str();
+    using L = cmmcomp::motion::MoveLimits;
+    // CLI::Range lets NaN through (no comparison fails): a number must be finite first.
+    const CLI::Validator finite(
+        [](std::string& text) {
+          char* end = nullptr;
+          const double v = std::strtod(text.c_str(), &end);
+          return std::isfinite(v) ? std::string() : "'" + text + "' is not a finite number";
+        },
+        "FINITE");
+    const auto range = [&finite](double lo_si, double hi_si) {
+      return finite & CLI::Range(lo_si / kMm, hi_si / kMm);
+    };
+    app.add_option("--pv", pv, "positioning speed PV [mm/s]")
+        ->check(range(L::kMinSpeed, L::kMaxSpeed))
+        ->capture_default_str();
+    app.add_option("--pa", pa, "positioning acceleration PA [mm/s^2]")
+        ->check(range(L::kMinAccel, L::kMaxAccel))
+        ->capture_default_str();
+    app.add_option("--pd", pd, "positioning distance PD [mm]")
+        ->check(range(L::kMinDistance, L::kMaxDistance))
+        ->capture_default_str();
+    app.add_option("--av", av, "approach speed AV [mm/s]")
+        ->check(range(L::kMinSpeed, L::kMaxSpeed))
+        ->capture_default_str();
+    app.add_option("--aa", aa, "approach acceleration AA [mm/s^2]")
+        ->check(range(L::kMinAccel, L::kMaxAccel))
+        ->capture_default_str();
+    app.add_option("--ad", ad, "approach distance AD [mm]")
+        ->check(range(L::kMinDistance, L::kMaxDistance))
+        ->capture_default_str();
+    app.add_option("--jerk", jerk, "jerk limit [mm/s^3]; 0 = trapezoidal")
+        ->check(finite & (CLI::Range(0.0, 0.0) | range(L::kMinJerk, L::kMaxJerk)))
+        ->capture_default_str();
   }
   cmmcomp::motion::ProbingMove to_move() const {
     return {pv * kMm, pa * kMm, pd * kMm, av * kMm, aa * kMm, ad * kMm, jerk * kMm};
@@ -80,8 +110,12 @@ int run_profile(const MoveFlags& flags, const std::string& csv_path, int samples
 }
 
 cmmcomp::dynamics::Machine machine_from(const std::string& path) {
-  return path.empty() ? cmmcomp::dynamics::default_machine()
-                      : cmmcomp::dynamics::load_machine(path);
+  if (path.empty()) return cmmcomp::dynamics::default_machine();
+  const cmmcomp::dynamics::Machine m = cmmcomp::dynamics::load_machine(path);
+  for (const std::string& w : cmmcomp::dynamics::implausible_parameters(m.parameters)) {
+    std::fprintf(stderr, "warning: %s: %s\n", path.c_str(), w.c_str());
+  }
+  return m;
 }
 
 struct MoveCommand {
@@ -638,7 +672,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return cmmcomp::tools::usage_exit(app, e);
   }
   try {
     if (profile->parsed()) return run_profile(profile_flags, csv_path, samples);

@@ -27,6 +27,8 @@
 #include <variant>
 #include <vector>
 
+#include "../common/usage.hpp"
+
 namespace {
 
 /// The --inputs value of `Inputs`: its labels in lower case, comma separated ("pv,pd,av,ad").
@@ -363,7 +365,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return cmmcomp::tools::usage_exit(app, e);
   }
   try {
     if (fit->parsed()) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/usage.hpp"
 #include "agent_spec.hpp"
 #include "can_link.hpp"
 #include "length_test.hpp"
@@ -76,6 +77,9 @@ int run(const Options& opt) {
   const cmmcomp::dynamics::Machine machine = opt.machine.empty()
                                                  ? cmmcomp::dynamics::default_machine()
                                                  : cmmcomp::dynamics::load_machine(opt.machine);
+  for (const std::string& w : cmmcomp::dynamics::implausible_parameters(machine.parameters)) {
+    std::fprintf(stderr, "warning: %s: %s\n", opt.machine.c_str(), w.c_str());
+  }
   TwinProbe twin(machine, noise);
   // The twin's controller dwells and smooths every move: that time counts per point.
   program.dwell_s = machine.parameters.controller_dwell_s;
@@ -263,8 +267,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // --help and --version are "errors" with status 0; every real usage error is status 2.
-    return app.exit(e) == 0 ? 0 : 2;
+    return cmmcomp::tools::usage_exit(app, e);
   }
   try {
     return run(opt);

@@ -106,4 +106,9 @@ std::string format_machine(const Machine& machine);
 /// Checks every parameter against the table's bounds; false with the reason in `why`.
 bool is_physical(const MachineParameters& p, std::string* why);
 
+/// One line per parameter outside its plausible range (physical, but unlike a real moving-bridge
+/// CMM), naming the key, the value, the range and its basis; empty when every value is
+/// plausible. The tools print them as `warning:` lines when they load a machine file.
+std::vector<std::string> implausible_parameters(const MachineParameters& p);
+
 }  // namespace cmmcomp::dynamics

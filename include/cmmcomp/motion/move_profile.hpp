@@ -87,6 +87,16 @@ struct MoveLimits {
   static constexpr double kMaxSmoothing = 1.0;  ///< [s] (0 = no smoothing)
 };
 
+/// The first parameter of a move outside MoveLimits (or NaN), for a message that names it:
+/// `label` is null when every parameter is accepted. SI values; RT-safe.
+struct MoveParameterProblem {
+  const char* label =
+      nullptr;            ///< "PV", "PA", "PD", "AV", "AA", "AD", "jerk", "dwell", "smoothing"
+  const char* unit = "";  ///< "m/s", "m/s^2", "m", "m/s^3", "s"
+  double value = 0.0, min = 0.0, max = 0.0;
+};
+[[nodiscard]] MoveParameterProblem first_invalid_parameter(const ProbingMove& m) noexcept;
+
 /// Commanded state at one instant.
 struct MotionState {
   double position = 0.0;      ///< [m]
@@ -292,19 +302,34 @@ class MoveProfile {
   bool approach_reaches_speed_ = false;
 };
 
-inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept {
+inline MoveParameterProblem first_invalid_parameter(const ProbingMove& m) noexcept {
   using L = MoveLimits;
   using detail::in_range;
-  const bool valid = in_range(m.positioning_speed, L::kMinSpeed, L::kMaxSpeed) &&
-                     in_range(m.approach_speed, L::kMinSpeed, L::kMaxSpeed) &&
-                     in_range(m.positioning_accel, L::kMinAccel, L::kMaxAccel) &&
-                     in_range(m.approach_accel, L::kMinAccel, L::kMaxAccel) &&
-                     in_range(m.positioning_distance, L::kMinDistance, L::kMaxDistance) &&
-                     in_range(m.approach_distance, L::kMinDistance, L::kMaxDistance) &&
-                     (m.jerk == 0.0 || in_range(m.jerk, L::kMinJerk, L::kMaxJerk)) &&
-                     in_range(m.dwell, 0.0, L::kMaxDwell) &&
-                     in_range(m.smoothing, 0.0, L::kMaxSmoothing);
-  if (!valid) return Status::kInvalidInput;
+  const struct {
+    const char* label;
+    const char* unit;
+    double value, min, max;
+  } checks[] = {
+      {"PV", "m/s", m.positioning_speed, L::kMinSpeed, L::kMaxSpeed},
+      {"PA", "m/s^2", m.positioning_accel, L::kMinAccel, L::kMaxAccel},
+      {"PD", "m", m.positioning_distance, L::kMinDistance, L::kMaxDistance},
+      {"AV", "m/s", m.approach_speed, L::kMinSpeed, L::kMaxSpeed},
+      {"AA", "m/s^2", m.approach_accel, L::kMinAccel, L::kMaxAccel},
+      {"AD", "m", m.approach_distance, L::kMinDistance, L::kMaxDistance},
+      {"dwell", "s", m.dwell, 0.0, L::kMaxDwell},
+      {"smoothing", "s", m.smoothing, 0.0, L::kMaxSmoothing},
+  };
+  for (const auto& c : checks) {
+    if (!in_range(c.value, c.min, c.max)) return {c.label, c.unit, c.value, c.min, c.max};
+  }
+  if (m.jerk != 0.0 && !in_range(m.jerk, L::kMinJerk, L::kMaxJerk)) {
+    return {"jerk", "m/s^3", m.jerk, L::kMinJerk, L::kMaxJerk};
+  }
+  return {};
+}
+
+inline Status MoveProfile::plan(const ProbingMove& m, MoveProfile& out) noexcept {
+  if (first_invalid_parameter(m).label != nullptr) return Status::kInvalidInput;
 
   MoveProfile p;
   p.move_ = m;
