@@ -1590,4 +1590,85 @@ std::string format_extraction_summary(const Extraction& ex) {
   return j.dump(2) + "\n";
 }
 
+std::string campaign_plot_script(const Extraction& ex, const std::string& png_path) {
+  int ok = 0;
+  std::map<std::string, int> kinds;
+  for (const MoveExtraction& m : ex.moves) {
+    if (m.ok) {
+      ++ok;
+    } else {
+      ++kinds[reason_kind(m.reason).substr(0, 60)];
+    }
+  }
+  const auto quoted = [](std::string text) {
+    for (char& c : text) {
+      if (c == '"' || c == '\\') c = '\'';
+    }
+    return "\"" + text + "\"";
+  };
+  std::string g = "set terminal pngcairo size 1400,1000 noenhanced font ',10'\nset output " +
+                  quoted(png_path) + "\n";
+  g += "$moves << EOD\n";
+  for (std::size_t k = 0; k < ex.moves.size(); ++k) {
+    const MoveExtraction& m = ex.moves[k];
+    g += fmt::format(
+        "{} {} {} {}\n",
+        k + 1,
+        std::isnan(m.dwell_s) ? std::string("NaN") : fmt::format("{:.6f}", m.dwell_s),
+        std::isnan(m.smoothing_s) ? std::string("NaN") : fmt::format("{:.6f}", m.smoothing_s),
+        m.ok ? 1 : 0);
+  }
+  g += "EOD\n$noise << EOD\n";
+  for (std::size_t p = 0; p < 4; ++p) {
+    const double sd = ex.noise.repeat_sd_um[p];
+    g += fmt::format("{} {} {} {}\n",
+                     p,
+                     kParameterLabels[p],
+                     std::isnan(sd) ? std::string("NaN") : fmt::format("{:.4f}", sd),
+                     paper::kTable1Std[p]);
+  }
+  g += "EOD\n$skips << EOD\n";
+  g += fmt::format("0 {} {}\n", quoted("extracted"), ok);
+  int i = 1;
+  for (const auto& [kind, n] : kinds) g += fmt::format("{} {} {}\n", i++, quoted(kind), n);
+  g += "EOD\n";
+  const std::string verdict = !ex.refusal.empty() ? "REFUSED: " + ex.refusal.substr(0, 110)
+                              : !ex.warnings.empty()
+                                  ? fmt::format("{} warning(s)", ex.warnings.size())
+                                  : std::string("clean");
+  g += "set multiplot layout 2,2 title " +
+       quoted(fmt::format("campaign: {} of {} moves extracted; clock: {}; {}",
+                          ok,
+                          ex.moves.size(),
+                          ex.clock.source.empty() ? "-" : ex.clock.source,
+                          verdict)) +
+       "\nset grid\nset key outside bottom center horizontal\n";
+  const auto timing = [&](const char* what, int column, double used) {
+    return fmt::format(
+        "set title '{} measured per move [s]'\nset xlabel 'move (plan order)'\nset ylabel 's'\n"
+        "plot $moves using 1:{} with points pt 7 ps 0.6 title 'measured', {} with lines lw 2 "
+        "title 'used by the run ({:.4f} s)'\n",
+        what,
+        column,
+        std::isnan(used) ? 0.0 : used,
+        std::isnan(used) ? 0.0 : used);
+  };
+  g += timing("controller dwell", 2, ex.timing.dwell_s);
+  g += timing("controller smoothing", 3, ex.timing.smoothing_s);
+  g += fmt::format(
+      "set title 'noise: repeat sigma per parameter [µm] ({} degrees of freedom)'\n"
+      "set xlabel ''\nset ylabel 'µm'\nset style data histograms\nset style fill solid 0.6\n"
+      "set boxwidth 0.35\nset yrange [0:*]\n"
+      "plot $noise using ($1-0.2):3:xtic(2) with boxes title 'this campaign', "
+      "$noise using ($1+0.2):4 with boxes title 'paper Table 1', "
+      "$noise using 1:(1.5*$4) with points pt 2 ps 2 title 'warning limit (1.5 x Table 1)'\n",
+      ex.noise.repeat_dof);
+  g += fmt::format(
+      "set title 'moves by outcome'\nset ylabel 'moves'\nset xtics rotate by -20\n"
+      "set xrange [-0.8:{}]\nset boxwidth 0.6\nplot $skips using 1:3:xtic(2) with boxes notitle\n",
+      static_cast<double>(kinds.size()) + 0.8);
+  g += "unset multiplot\n";
+  return g;
+}
+
 }  // namespace cmmcomp::measure

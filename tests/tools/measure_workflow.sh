@@ -18,7 +18,8 @@ grep -q '^00001 StartSession()$' campaign/plan.ipp
 grep -q ',sync$' campaign/rec/move-0001.tracker.csv
 # The clean campaign: the clock from the sync markers, the controller timing measured; quiet.
 "$measure" extract --plan campaign/plan.csv --recordings campaign/rec -o campaign/dataset.csv \
-  2>stderr.txt | tee extract.txt
+  --plot campaign/summary.png 2>stderr.txt | tee extract.txt
+[ -s campaign/summary.png ] && [ "$(head -c 4 campaign/summary.png | tail -c 3)" = PNG ]
 [ ! -s stderr.txt ] || { cat stderr.txt; echo "a clean campaign must be quiet"; exit 1; }
 grep -q '^extracted 54 of 54 moves' extract.txt
 grep -q '^tracker clock: offset 37.000 ms, drift 100.0 ppm, from 54 sync markers' extract.txt

@@ -16,6 +16,7 @@
 #include <cmmcomp/measure/twin_recording.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <map>
@@ -98,7 +99,7 @@ int run_plan(PlanCommand cmd) {
 }
 
 struct ExtractCommand {
-  std::string plan, recordings, machine_path, output, report, summary;
+  std::string plan, recordings, machine_path, output, report, summary, plot;
   measure::ExtractOptions options;
   double offset_ms = 0, drift_ppm = 0;
   double timing_tolerance_ms = 10.0;
@@ -179,6 +180,14 @@ int run_extract(ExtractCommand cmd) {
   const std::string summary = cmd.summary.empty() ? cmd.output + ".summary.json" : cmd.summary;
   cmmcomp::io::write_file_atomically(report, measure::format_extraction_report(ex));
   cmmcomp::io::write_file_atomically(summary, measure::format_extraction_summary(ex));
+  if (!cmd.plot.empty()) {
+    const std::string script = cmd.plot + ".gp";
+    cmmcomp::io::write_file_atomically(script, measure::campaign_plot_script(ex, cmd.plot));
+    if (std::system(("gnuplot '" + script + "'").c_str()) != 0) {
+      std::fprintf(
+          stderr, "warning: gnuplot could not draw %s (is gnuplot installed?)\n", cmd.plot.c_str());
+    }
+  }
   for (const std::string& w : ex.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (!ex.refusal.empty()) {
     std::fprintf(stderr,
@@ -332,6 +341,7 @@ int main(int argc, char** argv) {
   extract->add_option("--report", ec.report, "per-move report CSV (default OUTPUT.report.csv)");
   extract->add_option(
       "--summary", ec.summary, "campaign summary JSON (default OUTPUT.summary.json)");
+  extract->add_option("--plot", ec.plot, "draw the campaign summary to this PNG (gnuplot)");
 
   try {
     app.parse(argc, argv);

@@ -215,4 +215,9 @@ std::string format_extraction_report(const Extraction& extraction);
 /// noise per parameter against Table 1's σ, the refusal and the warnings.
 std::string format_extraction_summary(const Extraction& extraction);
 
+/// The campaign summary as a gnuplot script (pngcairo, its data inline) that draws `png_path`:
+/// the controller timing measured per move against the run's, each parameter's repeat σ against
+/// Table 1's, the moves extracted and skipped by reason, and the verdict in the title.
+std::string campaign_plot_script(const Extraction& extraction, const std::string& png_path);
+
 }  // namespace cmmcomp::measure
