@@ -45,6 +45,7 @@ struct Options {
   double edge_margin = 0.0;
   int brute_force = 0;
   double trained_pa = 200.0;
+  bool trained_given = false;  ///< --trained-pa or --trained-aa given
   double trained_aa = 60.0;
   double coverage = 0.95;
   std::string vc_settings;
@@ -356,8 +357,8 @@ int run(const Options& opt, bool y_given) {
   out += fmt::format(
       "search box (limits within the model's ranges, edge margin {:g}): PV {:g}–{:g} mm/s, PD "
       "{:g}–{:g} mm, "
-      "AV {:g}–{:g} mm/s, AD {:g}–{:g} mm; PA {:g}, AA {:g} mm/s² (the model's); Y {} mm; "
-      "dwell {:g} s, smoothing {:g} s\n",
+      "AV {:g}–{:g} mm/s, AD {:g}–{:g} mm; PA {:g}, AA {:g} mm/s² ({}); Y {} mm; "
+      "dwell {:g} s, smoothing {:g} s ({})\n",
       p.edge_margin,
       planner.pv_mm_s().lo,
       planner.pv_mm_s().hi,
@@ -369,9 +370,13 @@ int run(const Options& opt, bool y_given) {
       planner.ad_mm().hi,
       p.pa_mm_s2_model,
       p.aa_mm_s2_model,
+      opt.trained_given ? "as given with --trained-pa/--trained-aa"
+                        : "assumed: the paper's; the model file does not record them",
       ys,
       p.dwell_s,
-      p.smoothing_s);
+      p.smoothing_s,
+      opt.machine.empty() ? "the embedded default machine's controller"
+                          : "the controller of " + opt.machine);
   if (p.qualified) {
     std::string nodes;
     for (std::size_t i = 0; i < p.qualified->map_y_mm.size(); ++i) {
@@ -480,16 +485,18 @@ int main(int argc, char** argv) {
                  opt.brute_force,
                  "also search an N^4 grid exhaustively and print its best (a check; 0: none)")
       ->check(CLI::Range(0, 41) & !CLI::IsMember({1}));
-  app.add_option("--trained-pa",
-                 opt.trained_pa,
-                 "PA the model was trained at [mm/s²] (the paper's 200): the planner keeps it")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  app.add_option("--trained-aa",
-                 opt.trained_aa,
-                 "AA the model was trained at [mm/s²] (the paper's 60): the planner keeps it")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  CLI::Option* trained_pa =
+      app.add_option("--trained-pa",
+                     opt.trained_pa,
+                     "PA the model was trained at [mm/s²] (the paper's 200): the planner keeps it")
+          ->capture_default_str()
+          ->check(CLI::PositiveNumber);
+  CLI::Option* trained_aa =
+      app.add_option("--trained-aa",
+                     opt.trained_aa,
+                     "AA the model was trained at [mm/s²] (the paper's 60): the planner keeps it")
+          ->capture_default_str()
+          ->check(CLI::PositiveNumber);
   app.add_option("--vc-settings",
                  opt.vc_settings,
                  "also write the two settings as cmmcomp-vc --fast/--slow values to FILE: lines "
@@ -510,6 +517,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return cmmcomp::tools::usage_exit(app, e);
   }
+  opt.trained_given = trained_pa->count() > 0 || trained_aa->count() > 0;
   try {
     return run(opt, y_option->count() > 0);
   } catch (const cmmcomp::ConfigError& e) {
