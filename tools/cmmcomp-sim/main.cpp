@@ -59,24 +59,24 @@ struct MoveFlags {
     const auto range = [&finite](double lo_si, double hi_si) {
       return finite & CLI::Range(lo_si / kMm, hi_si / kMm);
     };
-    app.add_option("--pv", pv, "positioning speed PV [mm/s]")
-        ->check(range(L::kMinSpeed, L::kMaxSpeed))
-        ->capture_default_str();
-    app.add_option("--pa", pa, "positioning acceleration PA [mm/s^2]")
-        ->check(range(L::kMinAccel, L::kMaxAccel))
-        ->capture_default_str();
-    app.add_option("--pd", pd, "positioning distance PD [mm]")
-        ->check(range(L::kMinDistance, L::kMaxDistance))
-        ->capture_default_str();
-    app.add_option("--av", av, "approach speed AV [mm/s]")
-        ->check(range(L::kMinSpeed, L::kMaxSpeed))
-        ->capture_default_str();
-    app.add_option("--aa", aa, "approach acceleration AA [mm/s^2]")
-        ->check(range(L::kMinAccel, L::kMaxAccel))
-        ->capture_default_str();
-    app.add_option("--ad", ad, "approach distance AD [mm]")
-        ->check(range(L::kMinDistance, L::kMaxDistance))
-        ->capture_default_str();
+    const struct {
+      const char* name;
+      double* value;
+      const char* what;
+      double lo_si, hi_si;
+    } flags[] = {
+        {"--pv", &pv, "positioning speed PV [mm/s]", L::kMinSpeed, L::kMaxSpeed},
+        {"--pa", &pa, "positioning acceleration PA [mm/s^2]", L::kMinAccel, L::kMaxAccel},
+        {"--pd", &pd, "positioning distance PD [mm]", L::kMinDistance, L::kMaxDistance},
+        {"--av", &av, "approach speed AV [mm/s]", L::kMinSpeed, L::kMaxSpeed},
+        {"--aa", &aa, "approach acceleration AA [mm/s^2]", L::kMinAccel, L::kMaxAccel},
+        {"--ad", &ad, "approach distance AD [mm]", L::kMinDistance, L::kMaxDistance},
+    };
+    for (const auto& f : flags) {
+      app.add_option(f.name, *f.value, f.what)
+          ->check(range(f.lo_si, f.hi_si))
+          ->capture_default_str();
+    }
     app.add_option("--jerk", jerk, "jerk limit [mm/s^3]; 0 = trapezoidal")
         ->check(finite & (CLI::Range(0.0, 0.0) | range(L::kMinJerk, L::kMaxJerk)))
         ->capture_default_str();
