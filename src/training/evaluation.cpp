@@ -92,32 +92,50 @@ std::array<Table5Row, kErrors.size()> table5(const TestSetPredictions& p) {
 
 Fig5Plot fig5_plot(const TestSetPredictions& p,
                    const std::string& data_path,
-                   const std::string& png_path) {
+                   const std::string& png_path,
+                   const std::string& model_id,
+                   double coverage_pct) {
   const std::size_t n = checked_size(p);
   Fig5Plot plot;
   std::ostringstream data;
   const std::size_t shown = std::min<std::size_t>(50, n);
+  bool band = coverage_pct > 0;
+  for (std::size_t o = 0; o < kErrors.size(); ++o) band = band && p.half_width[o].size() == n;
   for (std::size_t i = 0; i < shown; ++i) {
     const std::size_t k = (i * n) / shown;  // spread over the test set, deterministic
     data << i + 1;
     for (std::size_t o = 0; o < kErrors.size(); ++o) {
       data << ' ' << p.measured[o][k] << ' ' << p.predicted[o][k] << ' '
-           << p.measured[o][k] - p.predicted[o][k];
+           << p.measured[o][k] - p.predicted[o][k] << ' ' << (band ? p.half_width[o][k] : 0.0);
     }
     data << '\n';
   }
   plot.data = data.str();
   std::string& g = plot.script;
-  g = "set terminal pngcairo size 1200,900 noenhanced\nset output '" + png_path + "'\n" +
-      "set multiplot layout 2,2 title 'Measured, predicted and residual (" + std::to_string(shown) +
-      " test samples)'\n";
+  g = "set terminal pngcairo size 1200,950 noenhanced\nset output '" + png_path + "'\n" +
+      "set key outside bottom center horizontal\n" +
+      fmt::format(
+          "set multiplot layout 2,2 title 'Measured, predicted and residual ({} test "
+          "samples){}{}'\n",
+          shown,
+          model_id.empty() ? "" : ", model " + model_id,
+          band ? fmt::format("; band: the {:g} % interval", coverage_pct) : "");
   for (std::size_t o = 0; o < kErrors.size(); ++o) {
-    const std::size_t c = 2 + 3 * o;
+    const std::size_t c = 2 + 4 * o;
+    g += fmt::format("set title '{} [µm]'\nset xlabel 'sample'\nset grid\nplot ", kErrors[o].label);
+    if (band) {
+      g += fmt::format(
+          "'{}' using 1:(${}-${}):(${}+${}) with filledcurves fs transparent solid 0.2 noborder "
+          "title 'predicted ± U', ",
+          data_path,
+          c + 1,
+          c + 3,
+          c + 1,
+          c + 3);
+    }
     g += fmt::format(
-        "set title '{} [um]'\nset xlabel 'sample'\nset grid\n"
-        "plot '{}' using 1:{} with linespoints title 'measured', '' using 1:{} with linespoints "
+        "'{}' using 1:{} with linespoints title 'measured', '' using 1:{} with linespoints "
         "title 'predicted', '' using 1:{} with impulses lw 2 title 'residual'\n",
-        kErrors[o].label,
         data_path,
         c,
         c + 1,

@@ -180,6 +180,7 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
     for (std::size_t o = 0; o < 4; ++o) {
       p.measured[o].push_back(samples.targets[i][o]);
       p.predicted[o].push_back(y[o]);
+      p.half_width[o].push_back(u[o]);
       covered[o] += std::abs(samples.targets[i][o] - y[o]) <= u[o] ? 1 : 0;
       u_sum[o] += u[o];
     }
@@ -274,7 +275,8 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
     // The paper's Fig. 5: measured, predicted and residual for 50 test samples per parameter.
     const std::string dat = plot + ".dat";
     const std::string gp = plot + ".gp";
-    const cmmcomp::training::Fig5Plot fig = cmmcomp::training::fig5_plot(p, dat, plot);
+    const cmmcomp::training::Fig5Plot fig = cmmcomp::training::fig5_plot(
+        p, dat, plot, file.model_id, has_interval ? 100.0 * file.interval.coverage : 0.0);
     cmmcomp::io::write_file_atomically(dat, fig.data);
     cmmcomp::io::write_file_atomically(gp, fig.script);
     const std::string command = "gnuplot '" + gp + "'";

@@ -3,6 +3,8 @@
 /// --plot does): a data file and a script next to each PNG, so a user can restyle them.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +22,13 @@ std::vector<std::string> write_plots(const std::string& dir,
   if (ec) throw Error("--plot: cannot create " + dir + ": " + ec.message());
   std::vector<std::string> written;
   const std::size_t n_l = program.lengths_mm.size();
+  // One y range for every Y, so the plots compare at a glance: the largest |E| or MPE_E.
+  double y_max = 0;
+  for (const CaseResult& c : r.cases) {
+    y_max = std::max({y_max, c.mpe_e_um, std::fabs(c.slow_um), std::fabs(c.fast_uncompensated_um)});
+    for (double e : c.fast_compensated_um) y_max = std::max(y_max, std::fabs(e));
+  }
+  y_max *= 1.1;
   for (std::size_t iy = 0; iy < r.per_y.size(); ++iy) {
     const double y = r.per_y[iy].y_mm;
     const std::string base = fmt::format("{}/length_error_y{:g}", dir, y);
@@ -55,7 +64,9 @@ std::vector<std::string> write_plots(const std::string& dir,
                y,
                r.fast_time_per_point_s,
                r.slow_time_per_point_s)
-        << "set xlabel 'nominal length L [mm]'\nset ylabel 'length error E [um]'\nset grid\n"
+        << "set xlabel 'nominal length L [mm]'\n"
+        << "set ylabel 'length error E [µm] (each point: the worst repeat at that L)'\nset grid\n"
+        << fmt::format("set yrange [{:.4f}:{:.4f}]\n", -y_max, y_max)
         << "set key below\nset xzeroaxis\n"
         << "plot '" << dat << "' using 1:2 with lines dt 2 lc rgb 'black' title '+MPE_E', "
         << "'' using 1:(-$2) with lines dt 2 lc rgb 'black' title '-MPE_E', "
@@ -66,6 +77,13 @@ std::vector<std::string> write_plots(const std::string& dir,
       for (std::size_t k = 0; k < r.agent_labels.size(); ++k) {
         g << ", '' using 1:" << 5 + k << " with linespoints pt " << 5 + 2 * k << " lw 2 lc rgb '"
           << kColors[k % 4] << "' title 'fast compensated (" << r.agent_labels[k] << ")'";
+      }
+      // A point beyond ±MPE_E fails: marked with a cross on every series.
+      const std::size_t series = 2 + r.agent_labels.size();
+      for (std::size_t k = 0; k < series; ++k) {
+        g << ", '' using 1:(abs($" << 3 + k << ") > $2 ? $" << 3 + k
+          << " : 1/0) with points pt 2 ps 2.5 lw 2 lc rgb 'red' "
+          << (k == 0 ? "title 'fails: |E| > MPE_E'" : "notitle");
       }
       g << '\n';
     }

@@ -27,6 +27,8 @@ struct Table5Row {
 struct TestSetPredictions {
   std::array<std::vector<double>, kErrors.size()> measured;
   std::array<std::vector<double>, kErrors.size()> predicted;
+  /// The prediction interval's half-width per sample (empty: the model has none).
+  std::array<std::vector<double>, kErrors.size()> half_width;
 };
 
 /// Table 5 of each parameter. Throws ConfigError for an empty set or vectors of other lengths.
@@ -61,14 +63,18 @@ HeldOutCheck held_out_check(const std::array<Table5Row, kErrors.size()>& table,
                             std::size_t samples);
 
 /// The paper's Fig. 5 for gnuplot: `data` (one line per shown sample: index, then measured,
-/// predicted and residual of each parameter) and `script`, which reads `data_path` and draws a
-/// 2×2 PNG to `png_path`. At most 50 samples, spread evenly over the set (deterministic).
+/// predicted, residual and the interval's half-width (0 without one) of each parameter) and
+/// `script`, which reads `data_path` and draws a 2×2 PNG to `png_path`: the prediction with its
+/// band ± half-width at `coverage_pct` when there is one, titled with `model_id`, the legend
+/// below the plots. At most 50 samples, spread evenly over the set (deterministic).
 struct Fig5Plot {
   std::string data;
   std::string script;
 };
 Fig5Plot fig5_plot(const TestSetPredictions& p,
                    const std::string& data_path,
-                   const std::string& png_path);
+                   const std::string& png_path,
+                   const std::string& model_id = "",
+                   double coverage_pct = 0);
 
 }  // namespace cmmcomp::training
