@@ -29,8 +29,11 @@ int main(void) {
   int failures = 0;
   uint32_t axis;
   for (axis = 0; axis < CMMCOMP_MAX_AXES; ++axis) {
-    const int code = cmmcomp_fw_publish_with_interval(
-        axis, &default_model_c, &default_model_c_interval, default_model_c_id);
+    const int code = cmmcomp_fw_publish_with_conditions(axis,
+                                                        &default_model_c,
+                                                        &default_model_c_interval,
+                                                        &default_model_c_conditions,
+                                                        default_model_c_id);
     if (code != CMMCOMP_OK) {
       printf("c example: publish axis %" PRIu32 ": %d\n", axis, code);
       return 1;
@@ -67,6 +70,32 @@ int main(void) {
                c.sequence,
                u.u95_um[3],
                expected);
+        ++failures;
+      }
+    }
+  }
+  {
+    /* The model was trained at PA 200 mm/s² (default_model_c_conditions): PA 201 is inside (1 %
+     * tolerance), 210 outside and flagged, 1200 far outside and refused under every policy
+     * (docs/compensator.md, "Domain"). */
+    const double pa[3] = {201.0, 210.0, 1200.0};
+    const int want_code[3] = {CMMCOMP_OK, CMMCOMP_OK, CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED};
+    const uint32_t want_flags[3] = {
+        CMMCOMP_FLAG_OK, CMMCOMP_FLAG_OK | CMMCOMP_FLAG_OUTSIDE_DOMAIN, 0u};
+    int i;
+    for (i = 0; i < 3; ++i) {
+      cmmcomp_move_request m = move((uint32_t)(10 + i), 70, 60, 12, 10);
+      cmmcomp_correction c;
+      int code;
+      m.pa_mm_s2 = pa[i];
+      c.flags = 0u;
+      code = cmmcomp_fw_before_approach(&m, &c);
+      printf("c example: PA %.0f mm/s2: code %d, flags %" PRIu32 "\n", pa[i], code, c.flags);
+      if (code != want_code[i] || (code == CMMCOMP_OK && c.flags != want_flags[i])) {
+        printf("c example: PA %.0f mm/s2: expected code %d, flags %" PRIu32 "\n",
+               pa[i],
+               want_code[i],
+               want_flags[i]);
         ++failures;
       }
     }

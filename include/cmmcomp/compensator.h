@@ -59,8 +59,11 @@ extern "C" {
 #define CMMCOMP_E_INTERNAL (-5)        /**< an unexpected internal error */
 #define CMMCOMP_E_INVALID_INPUT (-100) /**< NaN, inf, <= 0, bad axis or direction in a request */
 #define CMMCOMP_E_NO_MODEL (-101)      /**< no model published (not returned by this ABI today) */
-#define CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED (-103) /**< outside the training domain, rejected */
-#define CMMCOMP_E_BUSY (-104)                    /**< firmware publish: a reader holds the buffer */
+/** outside the training domain and rejected: under the policy reject, or far outside (an input
+ * or the PA or AA beyond the model's range by more than 10 % of it) under any policy
+ * (docs/compensator.md, "Domain"); the C ABI's policy is clamp, so here only far outside */
+#define CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED (-103)
+#define CMMCOMP_E_BUSY (-104) /**< firmware publish: a reader holds the buffer */
 
 /** One probing move, announced before its approach. `direction` is d, the direction of motion,
  * the opposite of the probed surface's normal: d = -IJK (a point on a face with normal
@@ -126,7 +129,8 @@ CMMCOMP_CAPI_EXPORT int cmmcomp_reload_from_memory(cmmcomp_compensator* c,
                                                    const void* json,
                                                    size_t size);
 /** Predicts the errors of `in` and fills `out`. RT-safe and wait-free: no allocation, no lock,
- * no syscall. Returns 0 (check CMMCOMP_FLAG_OUTSIDE_DOMAIN), CMMCOMP_E_ARGUMENT (null
+ * no syscall. Returns 0 (check CMMCOMP_FLAG_OUTSIDE_DOMAIN: an input, or the PA or AA, outside
+ * what the model file records it was trained at), CMMCOMP_E_ARGUMENT (null
  * pointer), CMMCOMP_E_INVALID_INPUT, CMMCOMP_E_NO_MODEL, CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED;
  * `out` is untouched on error. */
 CMMCOMP_CAPI_EXPORT int cmmcomp_before_approach(const cmmcomp_compensator* c,

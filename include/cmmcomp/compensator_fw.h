@@ -60,6 +60,17 @@ typedef struct cmmcomp_fw_interval_calibration {
   double corner_gain[4];        /**< growth at the box's corners, >= 0 */
 } cmmcomp_fw_interval_calibration;
 
+/** The accelerations a model was trained at (its file's `conditions`; docs/compensator.md,
+ * "Domain"): a move whose PA or AA lies outside is flagged CMMCOMP_FLAG_OUTSIDE_DOMAIN, or
+ * refused (CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED) under policy reject; one far outside (beyond by more
+ * than 10 % of the range, or of the value for a single trained value) is refused under every
+ * policy, as is a move whose network input lies that far outside its training range. What the
+ * exported C source defines as NAME_conditions. {0, 0}: unknown, not checked. */
+typedef struct cmmcomp_fw_conditions {
+  double pa_mm_s2[2]; /**< {lo, hi} of the trained PA [mm/s^2], 0 < lo <= hi, or {0, 0} */
+  double aa_mm_s2[2]; /**< {lo, hi} of the trained AA [mm/s^2], 0 < lo <= hi, or {0, 0} */
+} cmmcomp_fw_conditions;
+
 /** Outside-domain policy of every before_approach (fixed before the first publish):
  * 0 clamp (default), 1 extrapolate, 2 reject. Not RT-safe; returns CMMCOMP_E_ARGUMENT for any
  * other value or once a model has been published. */
@@ -82,6 +93,17 @@ int cmmcomp_fw_publish_with_interval(uint32_t axis,
                                      const cmmcomp_fw_model* model,
                                      const cmmcomp_fw_interval_calibration* interval,
                                      uint64_t model_id);
+
+/** As cmmcomp_fw_publish_with_interval, with the model's training conditions (NAME_conditions
+ * of the exported source) published into the same buffer: what every model trained by
+ * cmmcomp-train should be published with. `interval` may be NULL (no calibration); also
+ * CMMCOMP_E_ARGUMENT for a null `conditions`, CMMCOMP_E_MODEL for conditions that are not
+ * {0, 0} or finite with 0 < lo <= hi. */
+int cmmcomp_fw_publish_with_conditions(uint32_t axis,
+                                       const cmmcomp_fw_model* model,
+                                       const cmmcomp_fw_interval_calibration* interval,
+                                       const cmmcomp_fw_conditions* conditions,
+                                       uint64_t model_id);
 
 /** As cmmcomp_before_approach (compensator.h), on the firmware compensator. RT-safe, callable
  * from an interrupt handler: no allocation, no lock, no syscall. */

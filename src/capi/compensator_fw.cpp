@@ -43,7 +43,20 @@ static_assert(offsetof(cmmcomp_fw_interval_calibration, corner_gain) ==
                   offsetof(Calibration, corner_gain),
               "interval layout");
 
+// cmmcomp_fw_conditions is Conditions' layout spelled in C.
+using Conditions = cmmcomp::compensation::Conditions;
+static_assert(sizeof(cmmcomp_fw_conditions) == sizeof(Conditions), "conditions layout");
+static_assert(offsetof(cmmcomp_fw_conditions, aa_mm_s2) == offsetof(Conditions, aa_mm_s2),
+              "conditions layout");
+
 cmmcomp::compensation::StaticMoveCompensator<Model> g_compensator;
+
+Conditions to_conditions(const cmmcomp_fw_conditions& c) noexcept {
+  Conditions out;
+  out.pa_mm_s2 = {c.pa_mm_s2[0], c.pa_mm_s2[1]};
+  out.aa_mm_s2 = {c.aa_mm_s2[0], c.aa_mm_s2[1]};
+  return out;
+}
 
 Calibration to_calibration(const cmmcomp_fw_interval_calibration& c) noexcept {
   Calibration out;
@@ -87,6 +100,23 @@ int cmmcomp_fw_publish_with_interval(uint32_t axis,
   }
   return publish_code(g_compensator.publish_bytes(
       static_cast<int>(axis), model, sizeof *model, to_calibration(*interval), model_id));
+}
+
+int cmmcomp_fw_publish_with_conditions(uint32_t axis,
+                                       const cmmcomp_fw_model* model,
+                                       const cmmcomp_fw_interval_calibration* interval,
+                                       const cmmcomp_fw_conditions* conditions,
+                                       uint64_t model_id) {
+  if (model == nullptr || conditions == nullptr || axis >= CMMCOMP_MAX_AXES) {
+    return CMMCOMP_E_ARGUMENT;
+  }
+  const Calibration calibration = interval != nullptr ? to_calibration(*interval) : Calibration{};
+  return publish_code(g_compensator.publish_bytes(static_cast<int>(axis),
+                                                  model,
+                                                  sizeof *model,
+                                                  calibration,
+                                                  to_conditions(*conditions),
+                                                  model_id));
 }
 
 int cmmcomp_fw_before_approach(const cmmcomp_move_request* in, cmmcomp_correction* out) {

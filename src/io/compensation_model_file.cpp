@@ -82,6 +82,17 @@ CompensationModelFile load_compensation_model(const std::string& path) {
   return parse_compensation_model(detail::read_text_file(path, "model file"), path);
 }
 
+compensation::Conditions compensation_conditions(const TrainingConditions& conditions) {
+  compensation::Conditions c;
+  if (conditions.pa_mm_s2) c.pa_mm_s2 = {conditions.pa_mm_s2->lo, conditions.pa_mm_s2->hi};
+  if (conditions.aa_mm_s2) c.aa_mm_s2 = {conditions.aa_mm_s2->lo, conditions.aa_mm_s2->hi};
+  return c;
+}
+
+const TrainingConditions& training_conditions(const CompensationModelFile& file) {
+  return std::visit([](const auto& f) -> const TrainingConditions& { return f.conditions; }, file);
+}
+
 const std::string& model_id(const CompensationModelFile& file) {
   return std::visit([](const auto& f) -> const std::string& { return f.model_id; }, file);
 }
@@ -102,7 +113,12 @@ Status publish(compensation::MoveCompensator& compensator,
   const std::uint64_t id = numeric_model_id(file);
   return std::visit(
       [&](const auto& f) {
-        return compensator.publish(axis, f.compensation_model(), f.interval, id, why);
+        return compensator.publish(axis,
+                                   f.compensation_model(),
+                                   f.interval,
+                                   compensation_conditions(f.conditions),
+                                   id,
+                                   why);
       },
       file);
 }

@@ -2,6 +2,7 @@
 /// @file The dataset CSV reader and writer.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
@@ -162,6 +163,22 @@ std::string format_dataset_csv(const std::vector<DatasetRow>& rows) {
 
 void write_dataset_csv(const std::string& path, const std::vector<DatasetRow>& rows) {
   write_file_atomically(path, format_dataset_csv(rows));
+}
+
+TrainingConditions dataset_conditions(const std::vector<DatasetRow>& rows) {
+  TrainingConditions c;
+  if (rows.empty()) return c;
+  ConditionRange pa{rows.front().pa_mm_s2, rows.front().pa_mm_s2};
+  ConditionRange aa{rows.front().aa_mm_s2, rows.front().aa_mm_s2};
+  for (const DatasetRow& r : rows) {
+    pa.lo = std::min(pa.lo, r.pa_mm_s2);
+    pa.hi = std::max(pa.hi, r.pa_mm_s2);
+    aa.lo = std::min(aa.lo, r.aa_mm_s2);
+    aa.hi = std::max(aa.hi, r.aa_mm_s2);
+  }
+  c.pa_mm_s2 = pa;
+  c.aa_mm_s2 = aa;
+  return c;
 }
 
 }  // namespace cmmcomp::io

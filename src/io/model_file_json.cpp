@@ -14,6 +14,7 @@
 #include <ctime>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -72,6 +73,43 @@ bool has_control_char(const std::string& s) {
 
 /// Everything about the content that is not structure: names, ranges, parameter values,
 /// metadata. `where` prefixes every message ("model.json" or "model to write").
+/// Checks `conditions` (the file's `conditions` object) for a model of `outputs` outputs;
+/// `fail` throws.
+template <typename Fail>
+void check_conditions(const TrainingConditions& c, int outputs, const Fail& fail) {
+  const auto range = [&](const std::optional<ConditionRange>& r, const char* name) {
+    if (!r) return;
+    if (!std::isfinite(r->lo) || !std::isfinite(r->hi) || !(r->lo > 0) || !(r->lo <= r->hi)) {
+      fail(fmt::format(
+          "conditions.{} = [{}, {}] must be finite with 0 < lo <= hi", name, r->lo, r->hi));
+    }
+  };
+  range(c.pa_mm_s2, "pa_mm_s2");
+  range(c.aa_mm_s2, "aa_mm_s2");
+  const auto time = [&](const std::optional<double>& v, const char* name) {
+    if (v && !(std::isfinite(*v) && *v >= 0)) {
+      fail(fmt::format("conditions.{} = {} must be finite and >= 0", name, *v));
+    }
+  };
+  time(c.dwell_s, "dwell_s");
+  time(c.smoothing_s, "smoothing_s");
+  if (has_control_char(c.axis)) fail("conditions.axis contains a control character");
+  if (has_control_char(c.machine)) fail("conditions.machine contains a control character");
+  if (!c.noise_floor.empty()) {
+    if (c.noise_floor.size() != static_cast<std::size_t>(outputs)) {
+      fail(fmt::format("conditions.noise_floor has {} values, expected one per output ({})",
+                       c.noise_floor.size(),
+                       outputs));
+    }
+    for (std::size_t o = 0; o < c.noise_floor.size(); ++o) {
+      if (!std::isfinite(c.noise_floor[o]) || c.noise_floor[o] < 0) {
+        fail(fmt::format(
+            "conditions.noise_floor[{}] = {} must be finite and >= 0", o, c.noise_floor[o]));
+      }
+    }
+  }
+}
+
 void check_content(const detail::ModelData& d, const std::string& where) {
   const auto fail = [&where](const std::string& what) { throw ConfigError(where + ": " + what); };
   const auto check_names = [&](const std::vector<std::string>& names,
@@ -145,6 +183,7 @@ void check_content(const detail::ModelData& d, const std::string& where) {
          "' is not ISO-8601 UTC (YYYY-MM-DDTHH:MM:SSZ, optional fraction of a second)");
   }
   if (t.tool_version.empty()) fail("training.tool_version is empty");
+  check_conditions(d.conditions, d.outputs, fail);
   if (d.interval_coverage == 0) {
     if (!d.interval_half_width.empty() || !d.interval_gain.empty() ||
         !d.interval_corner_gain.empty()) {
@@ -262,6 +301,27 @@ J to_json(const detail::ModelData& d) {
   training["seed"] = d.training.seed;
   training["tool_version"] = d.training.tool_version;
   doc["training"] = std::move(training);
+  const TrainingConditions& c = d.conditions;
+  J conditions;
+  const auto range = [](const std::optional<ConditionRange>& r) {
+    if (!r) return J(nullptr);
+    J j;
+    j["lo"] = r->lo;
+    j["hi"] = r->hi;
+    return j;
+  };
+  const auto optional_number = [](const std::optional<double>& v) {
+    return v ? J(*v) : J(nullptr);
+  };
+  const auto optional_text = [](const std::string& v) { return v.empty() ? J(nullptr) : J(v); };
+  conditions["pa_mm_s2"] = range(c.pa_mm_s2);
+  conditions["aa_mm_s2"] = range(c.aa_mm_s2);
+  conditions["dwell_s"] = optional_number(c.dwell_s);
+  conditions["smoothing_s"] = optional_number(c.smoothing_s);
+  conditions["axis"] = optional_text(c.axis);
+  conditions["machine"] = optional_text(c.machine);
+  conditions["noise_floor"] = c.noise_floor.empty() ? J(nullptr) : J(c.noise_floor);
+  doc["conditions"] = std::move(conditions);
   if (d.interval_coverage > 0) {
     J u;
     u["coverage"] = d.interval_coverage;
@@ -461,6 +521,46 @@ Json parse_document(const std::string& text, const std::string& source) {
   return doc;
 }
 
+/// Reads the `conditions` object `c` (every key present; null: unknown) into `out`.
+void read_conditions(const Json& c, const Reader& r, std::size_t n_out, TrainingConditions& out) {
+  r.only_keys(c,
+              "conditions",
+              {"pa_mm_s2", "aa_mm_s2", "dwell_s", "smoothing_s", "axis", "machine", "noise_floor"});
+  const auto range = [&](const char* name) -> std::optional<ConditionRange> {
+    const Json& v = r.key(c, "conditions", name);
+    if (v.is_null()) return std::nullopt;
+    const std::string at = std::string("conditions.") + name;
+    const Json& o = r.object(c, "conditions", name);
+    r.only_keys(o, at, {"lo", "hi"});
+    return ConditionRange{r.number(o, at, "lo"), r.number(o, at, "hi")};
+  };
+  out.pa_mm_s2 = range("pa_mm_s2");
+  out.aa_mm_s2 = range("aa_mm_s2");
+  const auto number = [&](const char* name) -> std::optional<double> {
+    const Json& v = r.key(c, "conditions", name);
+    if (v.is_null()) return std::nullopt;
+    return r.number(c, "conditions", name);
+  };
+  out.dwell_s = number("dwell_s");
+  out.smoothing_s = number("smoothing_s");
+  const auto text = [&](const char* name) -> std::string {
+    const Json& v = r.key(c, "conditions", name);
+    if (v.is_null()) return {};
+    std::string s = r.string(c, "conditions", name);
+    if (s.empty()) r.fail(std::string("conditions.") + name + " is empty (write null: unknown)");
+    return s;
+  };
+  out.axis = text("axis");
+  out.machine = text("machine");
+  if (!r.key(c, "conditions", "noise_floor").is_null()) {
+    const Json& floor = r.array(c, "conditions", "noise_floor", n_out);
+    for (std::size_t o = 0; o < n_out; ++o) {
+      out.noise_floor.push_back(
+          r.number(floor[o], "conditions.noise_floor" + idx(static_cast<int>(o))));
+    }
+  }
+}
+
 /// The file's format_version (kModelFileVersion, kModelFileVersionNoCornerGain or
 /// kModelFileVersionNoUncertainty).
 int read_version(const Json& doc, const Reader& r) {
@@ -472,6 +572,7 @@ int read_version(const Json& doc, const Reader& r) {
   }
   const bool known =
       version->is_number_integer() && (version->get<long long>() == kModelFileVersion ||
+                                       version->get<long long>() == kModelFileVersionNoConditions ||
                                        version->get<long long>() == kModelFileVersionNoCornerGain ||
                                        version->get<long long>() == kModelFileVersionNoUncertainty);
   if (!known) {
@@ -646,8 +747,9 @@ ModelData parse_model_json(const std::string& text,
   const Reader r(source);
   const int version = read_version(doc, r);
   // Version 1 has no "uncertainty" (its slot in the list repeats "checksum": no extra key);
-  // versions 2 and 3 require it (null: no calibration).
+  // versions 2 to 4 require it (null: no calibration). Versions before 4 have no "conditions".
   const bool v1 = version == kModelFileVersionNoUncertainty;
+  const bool has_conditions = version >= kModelFileVersion;
   r.only_keys(doc,
               "",
               {"format",
@@ -657,6 +759,7 @@ ModelData parse_model_json(const std::string& text,
                "outputs",
                "parameters",
                "training",
+               has_conditions ? "conditions" : "checksum",
                v1 ? "checksum" : "uncertainty",
                "checksum"});
   if (!v1) {
@@ -754,6 +857,8 @@ ModelData parse_model_json(const std::string& text,
   t.trained_at = r.string(training, "training", "trained_at");
   t.seed = r.unsigned_integer(training, "training", "seed");
   t.tool_version = r.string(training, "training", "tool_version");
+
+  if (has_conditions) read_conditions(r.object(doc, "", "conditions"), r, n_out, d.conditions);
 
   d.format_version = version;
   const auto uncertainty = doc.find("uncertainty");

@@ -8,6 +8,7 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "model_file_internal.hpp"
@@ -47,6 +48,36 @@ bool is_identifier(const std::string& s) {
 /// The interval calibration's values of `data` as a brace list, in IntervalCalibration's (and
 /// cmmcomp_fw_interval_calibration's) member order: coverage, then half_width,
 /// extrapolation_gain and corner_gain, one entry per output; all 0 when the file has none.
+/// `{{lo, hi}, {lo, hi}}` of the PA and AA conditions ({0, 0}: unknown), for both exports.
+std::string conditions_initialiser(const detail::ModelData& data) {
+  const auto range = [](const std::optional<ConditionRange>& r) {
+    return r ? fmt::format("{{{}, {}}}", double_literal(r->lo), double_literal(r->hi))
+             : std::string("{0.0, 0.0}");
+  };
+  return "{" + range(data.conditions.pa_mm_s2) + ", " + range(data.conditions.aa_mm_s2) + "}";
+}
+
+/// One comment line with every training condition, "unknown" for those the file lacks.
+std::string conditions_comment(const detail::ModelData& data) {
+  const TrainingConditions& c = data.conditions;
+  const auto range = [](const std::optional<ConditionRange>& r) {
+    return r ? fmt::format("{}..{}", double_literal(r->lo), double_literal(r->hi))
+             : std::string("unknown");
+  };
+  const auto value = [](const std::optional<double>& v) {
+    return v ? double_literal(*v) : std::string("unknown");
+  };
+  const auto text = [](const std::string& v) { return v.empty() ? std::string("unknown") : v; };
+  return fmt::format(
+      "conditions: PA {} mm/s2, AA {} mm/s2, dwell {} s, smoothing {} s, axis {}, machine {}",
+      range(c.pa_mm_s2),
+      range(c.aa_mm_s2),
+      value(c.dwell_s),
+      value(c.smoothing_s),
+      text(c.axis),
+      text(c.machine));
+}
+
 std::string interval_initialiser(const detail::ModelData& data) {
   const auto list = [&](const std::vector<double>& v) {
     std::string s = "{";
@@ -151,7 +182,9 @@ std::string export_model_header(const ModelData& data,
       out,
       "/// training: method \"{}\", lambda {}, seed {}, trained_at {}, tool \"{}\", "
       "data_file_sha256 \"{}\"\n"
+      "/// {}\n"
       "#pragma once\n\n"
+      "#include <cmmcomp/compensation/conditions.hpp>\n"
       "#include <cmmcomp/fuzzy/prediction_interval.hpp>\n"
       "#include <cmmcomp/fuzzy/tsk_evaluator.hpp>\n\n"
       "/// Model id: first 16 hex digits of the checksum.\n"
@@ -168,6 +201,7 @@ std::string export_model_header(const ModelData& data,
       t.trained_at,
       t.tool_version,
       t.data_file_sha256,
+      conditions_comment(data),
       symbol_name,
       id,
       symbol_name,
@@ -199,6 +233,14 @@ std::string export_model_header(const ModelData& data,
                  data.outputs,
                  symbol_name,
                  interval_initialiser(data));
+  fmt::format_to(out,
+                 "/// The PA and AA the model was trained at ({{0, 0}}: unknown; "
+                 "compensation/conditions.hpp):\n"
+                 "/// publish them with the network (StaticMoveCompensator::publish(axis, "
+                 "network, interval, conditions, id)).\n"
+                 "inline constexpr cmmcomp::compensation::Conditions {}_conditions = {};\n",
+                 symbol_name,
+                 conditions_initialiser(data));
   h += "// clang-format on\n";
   return h;
 }
@@ -268,9 +310,16 @@ std::string export_model_c_source(const ModelData& data,
                  "/* The model file's interval calibration (docs/uncertainty.md; coverage 0: "
                  "none), for\n"
                  " * cmmcomp_fw_publish_with_interval. */\n"
-                 "const cmmcomp_fw_interval_calibration {}_interval = {};\n",
+                 "const cmmcomp_fw_interval_calibration {}_interval = {};\n\n",
                  symbol_name,
                  interval_initialiser(data));
+  fmt::format_to(out,
+                 "/* The model file's training conditions ({{0, 0}}: unknown), for\n"
+                 " * cmmcomp_fw_publish_with_conditions; {}. */\n"
+                 "const cmmcomp_fw_conditions {}_conditions = {};\n",
+                 conditions_comment(data),
+                 symbol_name,
+                 conditions_initialiser(data));
   h += "/* clang-format on */\n";
   // The block's comments are C++ style: rewrite them for C99's sake of style consistency.
   std::string c;

@@ -757,6 +757,11 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
   Extraction ex;
   std::vector<Work> work(recordings.size());
   ex.moves.resize(recordings.size());
+  if (!plan.empty() && std::all_of(plan.begin(), plan.end(), [&](const PlannedMove& m) {
+        return m.axis == plan.front().axis;
+      })) {
+    ex.axis = std::string(1, plan.front().axis);
+  }
   // Two clocks when any readable recording has them (a missing one says nothing).
   const bool two_clocks =
       std::any_of(recordings.begin(), recordings.end(), [](const MoveRecording& r) {
@@ -1553,6 +1558,8 @@ std::string format_extraction_summary(const Extraction& ex) {
     auto& k = kinds[reason_kind(m.reason)];
     if (k.first++ == 0) k.second = m.reason;
   }
+  j["format"] = kSummaryFormat;
+  j["axis"] = ex.axis.empty() ? ordered_json() : ordered_json(ex.axis);
   j["moves"] = ex.moves.size();
   j["extracted"] = ok;
   ordered_json skipped = ordered_json::array();
@@ -1588,6 +1595,103 @@ std::string format_extraction_summary(const Extraction& ex) {
   j["refusal"] = ex.refusal;
   j["warnings"] = ex.warnings;
   return j.dump(2) + "\n";
+}
+
+CampaignSummary parse_extraction_summary(const std::string& text, const std::string& source) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw ConfigError(source + ": not JSON (" + e.what() + ")");
+  }
+  const auto fail = [&source](const std::string& what) {
+    throw ConfigError(source + ": " + what + " (expected the OUTPUT.summary.json that " +
+                      "cmmcomp-measure extract writes)");
+  };
+  if (!j.is_object() || j.value("format", std::string()) != kSummaryFormat) {
+    fail("no \"format\": \"" + std::string(kSummaryFormat) + "\"");
+  }
+  const auto number = [&](const nlohmann::json& obj, const char* key, const std::string& at) {
+    const auto it = obj.find(key);
+    if (it == obj.end()) fail("no key '" + at + key + "'");
+    if (it->is_null()) return std::nan("");
+    if (!it->is_number()) fail("'" + at + key + "' is not a number");
+    const double v = it->get<double>();
+    if (!std::isfinite(v)) fail("'" + at + key + "' is not finite");
+    return v;
+  };
+  CampaignSummary s;
+  s.source = source;
+  if (j.contains("axis") && j["axis"].is_string()) s.axis = j["axis"].get<std::string>();
+  if (!j.contains("refusal") || !j["refusal"].is_string()) fail("no key 'refusal'");
+  s.refusal = j["refusal"].get<std::string>();
+  if (!j.contains("extracted") || !j["extracted"].is_number_integer()) fail("no key 'extracted'");
+  s.extracted = j["extracted"].get<int>();
+  if (!j.contains("controller_timing") || !j["controller_timing"].is_object()) {
+    fail("no object 'controller_timing'");
+  }
+  s.dwell_s = number(j["controller_timing"], "dwell_s", "controller_timing.");
+  s.smoothing_s = number(j["controller_timing"], "smoothing_s", "controller_timing.");
+  if (!j.contains("noise") || !j["noise"].is_object()) fail("no object 'noise'");
+  for (std::size_t p = 0; p < 4; ++p) {
+    const std::string label = kParameterLabels[p];
+    if (!j["noise"].contains(label) || !j["noise"][label].is_object()) {
+      fail("no object 'noise." + label + "'");
+    }
+    s.repeat_sd_um[p] = number(j["noise"][label], "repeat_sd_um", "noise." + label + ".");
+  }
+  return s;
+}
+
+CampaignSummary read_extraction_summary(const std::string& path) {
+  return parse_extraction_summary(io::read_file_bounded(path, "campaign summary", 1 << 20), path);
+}
+
+io::TrainingConditions campaign_conditions(const std::vector<CampaignSummary>& campaigns,
+                                           double timing_tolerance_s) {
+  io::TrainingConditions c;
+  if (campaigns.empty()) return c;
+  const CampaignSummary& first = campaigns.front();
+  std::array<double, 4> pooled{};
+  bool noise_known = true;
+  for (const CampaignSummary& s : campaigns) {
+    if (!s.refusal.empty()) {
+      throw ConfigError(s.source + ": the campaign was refused (" + s.refusal +
+                        "): a model must not be trained on it");
+    }
+    const auto agree = [&](double a, double b, const char* what) {
+      if (std::isfinite(a) != std::isfinite(b) ||
+          (std::isfinite(a) && std::abs(a - b) > timing_tolerance_s)) {
+        throw ConfigError(fmt::format(
+            "{}: controller {} {} s, but {} says {} s: one model is trained at one controller "
+            "setting (train one model per setting)",
+            s.source,
+            what,
+            b,
+            first.source,
+            a));
+      }
+    };
+    agree(first.dwell_s, s.dwell_s, "dwell");
+    agree(first.smoothing_s, s.smoothing_s, "smoothing");
+    if (s.axis != first.axis) {
+      throw ConfigError(s.source + ": axis '" + s.axis + "', but " + first.source + " says '" +
+                        first.axis + "': one model serves one axis");
+    }
+    for (std::size_t p = 0; p < 4; ++p) {
+      noise_known = noise_known && std::isfinite(s.repeat_sd_um[p]);
+      if (noise_known) pooled[p] += s.repeat_sd_um[p] * s.repeat_sd_um[p];
+    }
+  }
+  if (std::isfinite(first.dwell_s)) c.dwell_s = first.dwell_s;
+  if (std::isfinite(first.smoothing_s)) c.smoothing_s = first.smoothing_s;
+  c.axis = first.axis;
+  if (noise_known) {
+    for (double v : pooled) {
+      c.noise_floor.push_back(std::sqrt(v / static_cast<double>(campaigns.size())));
+    }
+  }
+  return c;
 }
 
 std::string campaign_plot_script(const Extraction& ex, const std::string& png_path) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cmmcomp/compensation/conditions.hpp>
 #include <cmmcomp/detail/splitmix64.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
@@ -480,6 +481,122 @@ PlanResult FeedPlanner::plan(Mode mode) const {
     }
   }
   return r;
+}
+
+PlanConditions resolve_conditions(const std::vector<const io::TrainingConditions*>& models,
+                                  const std::vector<std::string>& model_ids,
+                                  const GivenConditions& given) {
+  constexpr double kTimingTolerance = 0.010;  // what extract holds a given timing to
+  if (models.empty() || models.size() != model_ids.size()) {
+    throw ConfigError("resolve_conditions: one id per model, at least one model");
+  }
+  PlanConditions out;
+  const auto acceleration = [&](std::optional<io::ConditionRange> io::TrainingConditions::*field,
+                                const std::optional<double>& value,
+                                const char* name,
+                                const char* option) {
+    if (value) {
+      for (std::size_t k = 0; k < models.size(); ++k) {
+        const auto& r = models[k]->*field;
+        if (r && (*value < r->lo * (1 - compensation::kConditionTolerance) ||
+                  *value > r->hi * (1 + compensation::kConditionTolerance))) {
+          throw ConfigError(fmt::format(
+              "{} {:g} mm/s², but model {} was trained at {} {:g}–{:g} mm/s²: its errors do not "
+              "hold there (the compensator flags or refuses such moves)",
+              option,
+              *value,
+              model_ids[k],
+              name,
+              r->lo,
+              r->hi));
+        }
+      }
+      return *value;
+    }
+    double v = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      const auto& r = models[k]->*field;
+      if (!r) {
+        throw ConfigError(fmt::format(
+            "model {} does not record the {} it was trained at (a model file before format 4, "
+            "or trained without it): give {} (the paper's: PA 200, AA 60 mm/s²)",
+            model_ids[k],
+            name,
+            option));
+      }
+      v = std::min(v, r->hi);
+    }
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      const auto& r = models[k]->*field;
+      if (v < r->lo) {
+        throw ConfigError(
+            fmt::format("the models were trained at {}s that do not overlap: model "
+                        "{} at {:g}–{:g} mm/s²; give {}",
+                        name,
+                        model_ids[k],
+                        r->lo,
+                        r->hi,
+                        option));
+      }
+    }
+    return v;
+  };
+  out.pa_mm_s2 =
+      acceleration(&io::TrainingConditions::pa_mm_s2, given.pa_mm_s2, "PA", "--trained-pa");
+  out.aa_mm_s2 =
+      acceleration(&io::TrainingConditions::aa_mm_s2, given.aa_mm_s2, "AA", "--trained-aa");
+  out.acceleration_source =
+      given.pa_mm_s2 || given.aa_mm_s2
+          ? std::string(given.pa_mm_s2 && given.aa_mm_s2 ? "as given" : "as given and the model's")
+          : std::string("the model's: the highest it was trained at");
+  const auto timing = [&](std::optional<double> io::TrainingConditions::*field,
+                          const std::optional<double>& value,
+                          const char* name) {
+    if (value) {
+      for (std::size_t k = 0; k < models.size(); ++k) {
+        const auto& m = models[k]->*field;
+        if (m && std::abs(*m - *value) > kTimingTolerance) {
+          throw ConfigError(fmt::format(
+              "{} has a controller {} of {:g} s, but model {} was trained at {:g} s: its errors "
+              "hold at its own controller setting (train a model at this one, or plan without "
+              "--machine)",
+              given.machine_label,
+              name,
+              *value,
+              model_ids[k],
+              *m));
+        }
+      }
+      return *value;
+    }
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      const auto& m = models[k]->*field;
+      if (!m) {
+        throw ConfigError(fmt::format(
+            "model {} does not record the controller {} it was trained at (a model file before "
+            "format 4, or trained without --campaign or --machine): give --machine with the "
+            "controller the model's moves ran with",
+            model_ids[k],
+            name));
+      }
+      const auto& first = models.front()->*field;
+      if (std::abs(*m - *first) > kTimingTolerance) {
+        throw ConfigError(
+            fmt::format("models {} and {} were trained at a controller {} of {:g} "
+                        "and {:g} s: plan them one at a time",
+                        model_ids.front(),
+                        model_ids[k],
+                        name,
+                        *first,
+                        *m));
+      }
+    }
+    return *(models.front()->*field);
+  };
+  out.dwell_s = timing(&io::TrainingConditions::dwell_s, given.dwell_s, "dwell");
+  out.smoothing_s = timing(&io::TrainingConditions::smoothing_s, given.smoothing_s, "smoothing");
+  out.timing_source = given.dwell_s ? given.machine_label : std::string("the model's");
+  return out;
 }
 
 }  // namespace cmmcomp::planning

@@ -122,18 +122,25 @@ int main(int argc, char** argv) {
   CHECK(interval.flags == CMMCOMP_FLAG_OK);
   CHECK(interval.reserved == 0u);
 
-  /* Outside the training domain: clamped (PV 200 -> 80, x = 1), flagged; the interval grows
-   * with the distance d = (200 - 80)/75 = 1.6 ranges: U = h (1 + g d). */
-  r = request(200.0);
+  /* Outside the training domain: clamped (PV 86 -> 80, x = 1), flagged; the interval grows
+   * with the distance d = (86 - 80)/75 = 0.08 ranges: U = h (1 + g d). */
+  r = request(86.0);
   CHECK(cmmcomp_before_approach(c, &r, &out) == CMMCOMP_OK);
   CHECK(out.flags == (CMMCOMP_FLAG_OK | CMMCOMP_FLAG_OUTSIDE_DOMAIN));
   CHECK_NEAR(out.rae_um, 4.5);
   CHECK(cmmcomp_before_approach_with_interval(c, &r, &with_interval, &interval) == CMMCOMP_OK);
   CHECK(interval.flags == (CMMCOMP_FLAG_OK | CMMCOMP_FLAG_OUTSIDE_DOMAIN));
   CHECK_NEAR(interval.u95_um[0], 2.0);
-  CHECK_NEAR(interval.u95_um[1], 1.5 * (1.0 + 1.6));
-  CHECK_NEAR(interval.u95_um[2], 1.0 * (1.0 + 2.0 * 1.6));
-  CHECK_NEAR(interval.u95_um[3], 0.5 * (1.0 + 0.25 * 1.6));
+  CHECK_NEAR(interval.u95_um[1], 1.5 * (1.0 + 0.08));
+  CHECK_NEAR(interval.u95_um[2], 1.0 * (1.0 + 2.0 * 0.08));
+  CHECK_NEAR(interval.u95_um[3], 0.5 * (1.0 + 0.25 * 0.08));
+
+  /* Far outside (more than 10 % of PV's range beyond it): refused although the C ABI clamps,
+   * output untouched (docs/compensator.md, "Domain"). */
+  r = request(200.0);
+  memset(&with_interval, 0xff, sizeof with_interval);
+  CHECK(cmmcomp_before_approach(c, &r, &with_interval) == CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED);
+  CHECK(with_interval.flags == 0xffffffffu);
 
   /* Invalid requests: error code, output untouched. */
   r = request(42.5);

@@ -24,7 +24,7 @@ MoveRequest move(int i) {
   MoveRequest r;
   r.sequence = static_cast<std::uint32_t>(i);
   r.axis = static_cast<std::uint8_t>(i % 2);
-  r.pv_mm_s = 5.0 + (i % 100);  // some outside [5, 80]
+  r.pv_mm_s = 5.0 + (i % 82);  // some outside [5, 80], none far outside (beyond 87.5)
   r.pa_mm_s2 = 500.0;
   r.pd_mm = 1.0 + (i % 49);
   r.av_mm_s = 2.0;
@@ -47,6 +47,9 @@ TEST(MoveCompensatorRt, BeforeApproachDoesNotAllocate) {
   bad = move(0);
   bad.axis = 3;  // no model
   failures += comp.before_approach(bad, out) == Status::kNoModel ? 0 : 1;
+  bad = move(0);
+  bad.pv_mm_s = 1e6;  // far outside: refused under every policy
+  failures += comp.before_approach(bad, out) == Status::kOutsideDomainRejected ? 0 : 1;
   EXPECT_EQ(allocs.count(), 0u);
   EXPECT_EQ(failures, 0u);
 }
@@ -67,6 +70,9 @@ TEST(StaticMoveCompensatorRt, NeitherPublishNorBeforeApproachAllocates) {
   MoveRequest bad_move = move(0);
   bad_move.axis = 3;  // no model
   failures += g_static.before_approach(bad_move, out) == Status::kNoModel ? 0 : 1;
+  bad_move = move(0);
+  bad_move.pv_mm_s = 1e6;  // far outside
+  failures += g_static.before_approach(bad_move, out) == Status::kOutsideDomainRejected ? 0 : 1;
   EXPECT_EQ(allocs.count(), 0u);
   EXPECT_EQ(failures, 0u);
 }

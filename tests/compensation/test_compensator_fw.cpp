@@ -19,6 +19,7 @@
 extern "C" const cmmcomp_fw_model default_model_c;
 extern "C" const uint64_t default_model_c_id;
 extern "C" const cmmcomp_fw_interval_calibration default_model_c_interval;
+extern "C" const cmmcomp_fw_conditions default_model_c_conditions;
 
 namespace {
 
@@ -155,6 +156,48 @@ TEST(CompensatorFw, ServesTheExportedModelExactlyAsTheCppCompensator) {
   EXPECT_EQ(out.model_id, default_model_c_id);
   EXPECT_EQ(interval.flags & CMMCOMP_FLAG_NO_UNCERTAINTY, 0u);
   EXPECT_EQ(cmmcomp_fw_before_approach_with_interval(&request, &out, nullptr), CMMCOMP_E_ARGUMENT);
+
+  // The training conditions (docs/compensator.md, "Domain"): the C source's are the header's,
+  // the model's PA 200 and AA 60 mm/s².
+  static_assert(sizeof(cmmcomp_fw_conditions) == sizeof(default_model_conditions), "");
+  EXPECT_EQ(
+      std::memcmp(
+          &default_model_c_conditions, &default_model_conditions, sizeof default_model_conditions),
+      0);
+  EXPECT_EQ(default_model_c_conditions.pa_mm_s2[0], 200.0);
+  EXPECT_EQ(default_model_c_conditions.aa_mm_s2[1], 60.0);
+  EXPECT_EQ(cmmcomp_fw_publish_with_conditions(3, &default_model_c, nullptr, nullptr, 1),
+            CMMCOMP_E_ARGUMENT);
+  cmmcomp_fw_conditions bad_conditions = default_model_c_conditions;
+  bad_conditions.pa_mm_s2[0] = 300.0;  // lo > hi
+  EXPECT_EQ(cmmcomp_fw_publish_with_conditions(
+                3, &default_model_c, &default_model_c_interval, &bad_conditions, 94),
+            CMMCOMP_E_MODEL);
+  ASSERT_EQ(cmmcomp_fw_publish_with_conditions(3,
+                                               &default_model_c,
+                                               &default_model_c_interval,
+                                               &default_model_c_conditions,
+                                               default_model_c_id),
+            CMMCOMP_OK);
+  request = random_request(rng);
+  request.axis = 3;
+  request.pv_mm_s = 70.0;  // inside the box (L18's): only the accelerations decide
+  request.pd_mm = 60.0;
+  request.av_mm_s = 12.0;
+  request.ad_mm = 10.0;
+  ASSERT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_OK);
+  EXPECT_EQ(out.flags, CMMCOMP_FLAG_OK);
+  request.pa_mm_s2 = 210.0;  // outside the trained PA, not far: flagged
+  ASSERT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_OK);
+  EXPECT_EQ(out.flags, CMMCOMP_FLAG_OK | CMMCOMP_FLAG_OUTSIDE_DOMAIN);
+  request.pa_mm_s2 = 1200.0;  // far outside: refused under the clamp policy too
+  EXPECT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED);
+  request.pa_mm_s2 = 200.0;
+  request.aa_mm_s2 = 300.0;
+  EXPECT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_E_OUTSIDE_DOMAIN_REJECTED);
+  request.axis = 2;  // published without conditions: the accelerations are not checked
+  ASSERT_EQ(cmmcomp_fw_before_approach(&request, &out), CMMCOMP_OK);
+  EXPECT_EQ(out.flags, CMMCOMP_FLAG_OK);
 }
 
 }  // namespace

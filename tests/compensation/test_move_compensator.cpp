@@ -120,10 +120,12 @@ TEST(MoveCompensator, FiveInputModelReadsTheCarriagePosition) {
     EXPECT_NEAR(out.mpe_um, 1.0, 1e-12);
     EXPECT_EQ(out.model_id, 0x55u);
   }
-  m.y_mm = 900.0;  // outside [0, 500]: clamped and flagged, as any input
+  m.y_mm = 540.0;  // outside [0, 500], not far: clamped and flagged, as any input
   ASSERT_EQ(comp.before_approach(m, out), Status::kOutsideDomain);
   EXPECT_NEAR(out.rae_um, 6.0, 1e-12);
   EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain | kFlagNoUncertainty);
+  m.y_mm = 900.0;  // far outside (more than 50 mm beyond): refused, as any input
+  ASSERT_EQ(comp.before_approach(m, out), Status::kOutsideDomainRejected);
 
   ASSERT_EQ(comp.publish(0, linear_model({3.0, -1.25, 4.0, 2.5}, {0, 0, 0, 0}), 0x44u),
             Status::kOk);
@@ -294,7 +296,7 @@ TEST(MoveCompensator, AppliesTheDomainPolicy) {
   MoveCompensator clamp;
   ASSERT_EQ(clamp.publish(0, m), Status::kOk);
   Correction out;
-  ASSERT_EQ(clamp.before_approach(move_at(200.0), out), Status::kOutsideDomain);
+  ASSERT_EQ(clamp.before_approach(move_at(84.0), out), Status::kOutsideDomain);
   EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain | kFlagNoUncertainty);
   EXPECT_NEAR(out.rae_um, 3.0, 1e-12);  // PV clamped to 80: x̂ = 1
 
@@ -302,14 +304,14 @@ TEST(MoveCompensator, AppliesTheDomainPolicy) {
   o.outside_domain = fuzzy::DomainPolicy::kExtrapolate;
   MoveCompensator extrapolate(o);
   ASSERT_EQ(extrapolate.publish(0, m), Status::kOk);
-  ASSERT_EQ(extrapolate.before_approach(move_at(155.0), out), Status::kOutsideDomain);
-  EXPECT_NEAR(out.rae_um, 5.0, 1e-12);  // x̂ = 2
+  ASSERT_EQ(extrapolate.before_approach(move_at(83.75), out), Status::kOutsideDomain);
+  EXPECT_NEAR(out.rae_um, 3.1, 1e-12);  // x̂ = 1.05
 
   o.outside_domain = fuzzy::DomainPolicy::kReject;
   MoveCompensator reject(o);
   ASSERT_EQ(reject.publish(0, m), Status::kOk);
   out = sentinel();
-  EXPECT_EQ(reject.before_approach(move_at(200.0), out), Status::kOutsideDomainRejected);
+  EXPECT_EQ(reject.before_approach(move_at(84.0), out), Status::kOutsideDomainRejected);
   EXPECT_TRUE(same_bits(out, sentinel()));
   EXPECT_EQ(reject.before_approach(move_at(40.0), out), Status::kOk);
 }
@@ -413,15 +415,15 @@ TEST(MoveCompensatorInterval, InsideTheDomainU95IsTheHalfWidth) {
 TEST(MoveCompensatorInterval, GrowsOutsideTheDomainUnderEitherPolicy) {
   const Model m = linear_model({0, 0, 0, 1.0}, {0, 0, 0, 2.0});
   const IntervalCalibration cal = test_interval();
-  // PV 200 against the range [5, 80]: d = (200 − 80)/75 = 1.6.
-  const double d = 120.0 / 75.0;
+  // PV 86 against the range [5, 80]: d = (86 − 80)/75 = 0.08 (not far outside: below 0.1).
+  const double d = 6.0 / 75.0;
   for (const auto policy : {fuzzy::DomainPolicy::kClamp, fuzzy::DomainPolicy::kExtrapolate}) {
     CompensatorOptions o;
     o.outside_domain = policy;
     MoveCompensator comp{o};
     ASSERT_EQ(comp.publish(0, m, cal), Status::kOk);
     Correction out;
-    ASSERT_EQ(comp.before_approach(move_at(200.0), out), Status::kOutsideDomain);
+    ASSERT_EQ(comp.before_approach(move_at(86.0), out), Status::kOutsideDomain);
     EXPECT_EQ(out.flags, kFlagOk | kFlagOutsideDomain);
     for (std::size_t k = 0; k < 4; ++k) {
       EXPECT_NEAR(out.u95_um[k], cal.half_width[k] * (1.0 + cal.extrapolation_gain[k] * d), 1e-12)

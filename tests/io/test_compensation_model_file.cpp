@@ -99,6 +99,43 @@ TEST(CompensationModelFile, TheShippedModelPublishesItsInterval) {
   EXPECT_NE(c.flags & compensation::kFlagNoUncertainty, 0u);
 }
 
+// The shipped model records the accelerations it was trained at (PA 200, AA 60 mm/s²) and
+// publishes them: a move at PA 1200 (issue 36: answered as plain OK before) is refused, one at
+// PA 210 flagged; a format-3 file of the same network checks only its inputs.
+TEST(CompensationModelFile, TheShippedModelPublishesItsConditions) {
+  const auto& f = default_model_file();
+  ASSERT_TRUE(f.conditions.pa_mm_s2 && f.conditions.aa_mm_s2);
+  EXPECT_EQ(*f.conditions.pa_mm_s2, (ConditionRange{200.0, 200.0}));
+  EXPECT_EQ(*f.conditions.aa_mm_s2, (ConditionRange{60.0, 60.0}));
+  ASSERT_TRUE(f.conditions.dwell_s && f.conditions.smoothing_s);
+  EXPECT_EQ(f.conditions.axis, "x");
+  EXPECT_EQ(f.conditions.noise_floor.size(), 4u);
+  const auto any = parse_compensation_model(format_model_json(f), "d.json");
+  EXPECT_EQ(training_conditions(any), f.conditions);
+  compensation::MoveCompensator comp;
+  ASSERT_EQ(publish(comp, 0, any), Status::kOk);
+  compensation::MoveRequest m;
+  m.direction = {-1.0, 0.0, 0.0};
+  m.pv_mm_s = 70.0;
+  m.pa_mm_s2 = 200.0;
+  m.pd_mm = 60.0;
+  m.av_mm_s = 12.0;
+  m.aa_mm_s2 = 60.0;
+  m.ad_mm = 10.0;
+  compensation::Correction c;
+  EXPECT_EQ(comp.before_approach(m, c), Status::kOk);
+  m.pa_mm_s2 = 210.0;
+  EXPECT_EQ(comp.before_approach(m, c), Status::kOutsideDomain);
+  EXPECT_NE(c.flags & compensation::kFlagOutsideDomain, 0u);
+  m.pa_mm_s2 = 1200.0;
+  EXPECT_EQ(comp.before_approach(m, c), Status::kOutsideDomainRejected);
+  ModelFileOf<PaperInputs> old = f;
+  old.conditions = {};
+  ASSERT_EQ(publish(comp, 0, parse_compensation_model(format_model_json(old), "o.json")),
+            Status::kOk);
+  EXPECT_EQ(comp.before_approach(m, c), Status::kOk);
+}
+
 TEST(CompensationModelFile, RefusesNamesTheCompensatorDoesNotFeed) {
   ModelFileOf<CarriageInputs> f = five_input_file();
   f.input_names[4] = "z_mm";

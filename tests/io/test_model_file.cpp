@@ -12,7 +12,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -378,11 +380,11 @@ TEST(ModelFileRejects, WrongFormatOrVersion) {
   const std::string text = format_model_json(golden_model());
   EXPECT_REJECTED(replaced(text, "cmmcomp-tsk-model", "cmmcomp-machine"),
                   "format is 'cmmcomp-machine', expected 'cmmcomp-tsk-model'");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 3", "\"format_version\": 4"),
-                  "format_version 4 is not supported (this library reads versions 1 to 3)");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 3", "\"format_version\": \"3\""),
-                  "format_version \"3\" is not supported");
-  EXPECT_REJECTED(replaced(text, "\"format_version\": 3,", ""), "missing key 'format_version'");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 4", "\"format_version\": 5"),
+                  "format_version 5 is not supported (this library reads versions 1 to 4)");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 4", "\"format_version\": \"4\""),
+                  "format_version \"4\" is not supported");
+  EXPECT_REJECTED(replaced(text, "\"format_version\": 4,", ""), "missing key 'format_version'");
   EXPECT_REJECTED(replaced(text, "\"format\": \"cmmcomp-tsk-model\",", ""), "missing key 'format'");
 }
 
@@ -402,6 +404,7 @@ std::string version_1_text() {
   nlohmann::ordered_json doc = nlohmann::ordered_json::parse(format_model_json(golden_model()));
   doc["format_version"] = 1;
   doc.erase("uncertainty");
+  doc.erase("conditions");
   return resigned(doc.dump());
 }
 
@@ -441,6 +444,7 @@ std::string version_2_text() {
       nlohmann::ordered_json::parse(format_model_json(calibrated_golden_model()));
   doc["format_version"] = 2;
   doc["uncertainty"].erase("corner_gain");
+  doc.erase("conditions");
   return resigned(doc.dump());
 }
 
@@ -460,6 +464,103 @@ TEST(ModelFile, Version2StillLoadsWithNoCornerGain) {
   EXPECT_EQ(v2.format_version, kModelFileVersionNoCornerGain);
   EXPECT_TRUE(v2.interval.available());
   for (double k : v2.interval.corner_gain) EXPECT_EQ(k, 0.0);
+}
+
+ModelFile<2, 3, 1> conditioned_golden_model() {
+  ModelFile<2, 3, 1> f = golden_model();
+  f.conditions.pa_mm_s2 = ConditionRange{200.0, 200.0};
+  f.conditions.aa_mm_s2 = ConditionRange{40.0, 80.0};
+  f.conditions.dwell_s = 1.128;
+  f.conditions.smoothing_s = 0.099;
+  f.conditions.axis = "x";
+  f.conditions.machine = "paper-default";
+  f.conditions.noise_floor = {1.321};
+  return f;
+}
+
+TEST(ModelFileConditions, RoundTripAndUnknown) {
+  const ModelFile<2, 3, 1> f = conditioned_golden_model();
+  const std::string text = format_model_json(f);
+  const ModelFile<2, 3, 1> back = parse_model_json<2, 3, 1>(text, "c.json");
+  EXPECT_EQ(back.conditions, f.conditions);
+  EXPECT_FALSE(back.conditions.unknown());
+  EXPECT_EQ(format_model_json(back), text);
+  // Nothing known: every key present and null.
+  const std::string bare = format_model_json(golden_model());
+  EXPECT_NE(bare.find("\"conditions\": {\"pa_mm_s2\": null, \"aa_mm_s2\": null, \"dwell_s\": null"),
+            std::string::npos)
+      << bare;
+  const auto bare_file = parse_model_json<2, 3, 1>(bare, "b.json");
+  EXPECT_TRUE(bare_file.conditions.unknown());
+  // The conditions are covered by the checksum: another dwell is another model.
+  ModelFile<2, 3, 1> other = f;
+  other.conditions.dwell_s = 0.5;
+  const auto other_file = parse_model_json<2, 3, 1>(format_model_json(other), "o.json");
+  EXPECT_NE(other_file.model_id, back.model_id);
+}
+
+TEST(ModelFileConditions, Version3LoadsWithEveryConditionUnknown) {
+  nlohmann::ordered_json doc =
+      nlohmann::ordered_json::parse(format_model_json(conditioned_golden_model()));
+  doc["format_version"] = 3;
+  doc.erase("conditions");
+  const ModelFile<2, 3, 1> f = parse_model_json<2, 3, 1>(resigned(doc.dump()), "v3.json");
+  EXPECT_EQ(f.format_version, kModelFileVersionNoConditions);
+  EXPECT_TRUE(f.conditions.unknown());
+  // A version-3 file may not carry the version-4 key; a version-4 file must.
+  doc["conditions"] = nullptr;
+  EXPECT_REJECTED(resigned(doc.dump()), "unknown key 'conditions'");
+  nlohmann::ordered_json v4 =
+      nlohmann::ordered_json::parse(format_model_json(conditioned_golden_model()));
+  v4.erase("conditions");
+  EXPECT_REJECTED(resigned(v4.dump()), "missing key 'conditions'");
+}
+
+TEST(ModelFileConditions, BadValuesAreRefusedNamingTheKey) {
+  const auto rejected = [](const std::function<void(nlohmann::ordered_json&)>& edit) {
+    nlohmann::ordered_json doc =
+        nlohmann::ordered_json::parse(format_model_json(conditioned_golden_model()));
+    edit(doc["conditions"]);
+    return error_of(resigned(doc.dump()));
+  };
+  EXPECT_NE(rejected([](auto& c) {
+              c["pa_mm_s2"]["lo"] = 300.0;
+            }).find("conditions.pa_mm_s2 = [300, 200] must be finite with 0 < lo <= hi"),
+            std::string::npos);
+  EXPECT_NE(rejected([](auto& c) { c["aa_mm_s2"]["lo"] = 0.0; }).find("conditions.aa_mm_s2"),
+            std::string::npos);
+  EXPECT_NE(rejected([](auto& c) {
+              c["dwell_s"] = -0.1;
+            }).find("conditions.dwell_s = -0.1 must be finite and >= 0"),
+            std::string::npos);
+  EXPECT_NE(rejected([](auto& c) {
+              c["noise_floor"] = {1.0, 2.0};
+            }).find("conditions.noise_floor"),
+            std::string::npos);
+  EXPECT_NE(rejected([](auto& c) { c["axis"] = ""; }).find("conditions.axis is empty"),
+            std::string::npos);
+  EXPECT_NE(rejected([](auto& c) { c["smoothing"] = 0.1; }).find("unknown key"), std::string::npos);
+  EXPECT_NE(rejected([](auto& c) { c.erase("machine"); }).find("missing key 'conditions.machine'"),
+            std::string::npos);
+  // The writer refuses what the reader would.
+  ModelFile<2, 3, 1> bad = conditioned_golden_model();
+  bad.conditions.smoothing_s = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(format_model_json(bad), ConfigError);
+}
+
+TEST(ModelFileConditions, ExportsCarryThePaAndAa) {
+  const std::string header = export_model_header(conditioned_golden_model(), "m");
+  EXPECT_NE(header.find("inline constexpr cmmcomp::compensation::Conditions m_conditions = "
+                        "{{200.0, 200.0}, {40.0, 80.0}};"),
+            std::string::npos)
+      << header;
+  EXPECT_NE(
+      header.find(
+          "/// conditions: PA 200.0..200.0 mm/s2, AA 40.0..80.0 mm/s2, dwell 1.1279999999999999 s"),
+      std::string::npos)
+      << header;
+  const std::string unknown = export_model_header(golden_model(), "m");
+  EXPECT_NE(unknown.find("m_conditions = {{0.0, 0.0}, {0.0, 0.0}};"), std::string::npos);
 }
 
 TEST(ModelFile, Version3RequiresTheCornerGain) {
@@ -708,14 +809,15 @@ TEST(ModelFile, ExportOfLargeNetworksIsExact) {
             std::string::npos);
   EXPECT_NE(header.find("-0.0,"), std::string::npos);  // the sign of zero survives
   EXPECT_NE(header.find("4.9406564584124654e-324,"), std::string::npos);
-  // Self-contained on the core: the evaluator and the interval's type, nothing else.
+  // Self-contained on the core: the evaluator, the interval's and the conditions' types.
   std::vector<std::string> includes;
   for (std::size_t at = header.find("#include"); at != std::string::npos;
        at = header.find("#include", at + 1)) {
     includes.push_back(header.substr(at, header.find('\n', at) - at));
   }
   EXPECT_EQ(includes,
-            (std::vector<std::string>{"#include <cmmcomp/fuzzy/prediction_interval.hpp>",
+            (std::vector<std::string>{"#include <cmmcomp/compensation/conditions.hpp>",
+                                      "#include <cmmcomp/fuzzy/prediction_interval.hpp>",
                                       "#include <cmmcomp/fuzzy/tsk_evaluator.hpp>"}));
   EXPECT_NE(header.find("inline constexpr cmmcomp::fuzzy::IntervalCalibration<4> m_interval = "),
             std::string::npos);

@@ -333,5 +333,55 @@ TEST(MeasureSession, AMoveTheMachineDidNotRunIsReportedNotGuessed) {
   EXPECT_EQ(ok, 17);
 }
 
+// The campaign summary is read back for the model's training conditions (cmmcomp-train fit
+// --campaign; docs/model-file.md, "Conditions").
+TEST(CampaignSummary, RoundTripAndConditions) {
+  Extraction ex;
+  ex.axis = "x";
+  ex.timing.dwell_s = 1.128;
+  ex.timing.smoothing_s = 0.099;
+  ex.noise.repeat_sd_um = {1.2, 0.4, 0.6, 0.3};
+  ex.moves.resize(3);
+  for (auto& m : ex.moves) m.ok = true;
+  const CampaignSummary s = parse_extraction_summary(format_extraction_summary(ex), "s.json");
+  EXPECT_EQ(s.axis, "x");
+  EXPECT_EQ(s.extracted, 3);
+  EXPECT_EQ(s.dwell_s, 1.128);
+  EXPECT_EQ(s.smoothing_s, 0.099);
+  EXPECT_EQ(s.repeat_sd_um[1], 0.4);
+  const io::TrainingConditions one = campaign_conditions({s});
+  EXPECT_EQ(one.dwell_s, 1.128);
+  EXPECT_EQ(one.axis, "x");
+  ASSERT_EQ(one.noise_floor.size(), 4u);
+  EXPECT_DOUBLE_EQ(one.noise_floor[0], 1.2);
+  // Two campaigns: the noise pooled; the timing must agree within 10 ms, and the axis.
+  CampaignSummary t = s;
+  t.source = "t.json";
+  t.repeat_sd_um = {0.0, 0.4, 0.6, 0.3};
+  t.dwell_s = 1.135;
+  const io::TrainingConditions two = campaign_conditions({s, t});
+  EXPECT_DOUBLE_EQ(two.noise_floor[0], std::sqrt(1.2 * 1.2 / 2.0));
+  t.dwell_s = 1.2;
+  EXPECT_THROW(campaign_conditions({s, t}), ConfigError);
+  t.dwell_s = 1.128;
+  t.axis = "y";
+  EXPECT_THROW(campaign_conditions({s, t}), ConfigError);
+  // A refused campaign must not train a model; a file that is not a summary is named.
+  CampaignSummary refused = s;
+  refused.refusal = "recordings of another plan?";
+  try {
+    campaign_conditions({refused});
+    ADD_FAILURE() << "a refused campaign must be refused";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("recordings of another plan?"), std::string::npos);
+  }
+  EXPECT_THROW(parse_extraction_summary("{\"moves\": 3}", "x.json"), ConfigError);
+  EXPECT_THROW(parse_extraction_summary("not json", "x.json"), ConfigError);
+  // Without repeats the noise floor is unknown, not zero.
+  CampaignSummary no_repeats = s;
+  no_repeats.repeat_sd_um[2] = std::nan("");
+  EXPECT_TRUE(campaign_conditions({no_repeats}).noise_floor.empty());
+}
+
 }  // namespace
 }  // namespace cmmcomp::measure

@@ -553,4 +553,67 @@ TEST(FeedPlanner, AModelCalibratedAtAnotherCoverageIsRefusedNamingBoth) {
   EXPECT_NO_THROW(FeedPlanner(half, p));
 }
 
+// Training conditions (docs/planner.md): from the model, given within its range, or refused.
+TEST(PlanConditions, FromTheModelGivenOrRefused) {
+  using cmmcomp::io::ConditionRange;
+  using cmmcomp::io::TrainingConditions;
+  using cmmcomp::planning::GivenConditions;
+  using cmmcomp::planning::resolve_conditions;
+  TrainingConditions a;
+  a.pa_mm_s2 = ConditionRange{100.0, 400.0};
+  a.aa_mm_s2 = ConditionRange{60.0, 60.0};
+  a.dwell_s = 0.5;
+  a.smoothing_s = 0.05;
+  const auto from_model = resolve_conditions({&a}, {"a"}, GivenConditions{});
+  EXPECT_EQ(from_model.pa_mm_s2, 400.0);  // the highest trained at
+  EXPECT_EQ(from_model.aa_mm_s2, 60.0);
+  EXPECT_EQ(from_model.dwell_s, 0.5);
+  EXPECT_EQ(from_model.smoothing_s, 0.05);
+  EXPECT_EQ(from_model.timing_source, "the model's");
+  // Two models: the highest PA both were trained at.
+  TrainingConditions b = a;
+  b.pa_mm_s2 = ConditionRange{200.0, 300.0};
+  EXPECT_EQ(resolve_conditions({&a, &b}, {"a", "b"}, GivenConditions{}).pa_mm_s2, 300.0);
+  GivenConditions given;
+  given.pa_mm_s2 = 250.0;
+  given.dwell_s = 0.505;
+  given.smoothing_s = 0.05;
+  given.machine_label = "the controller of m.toml";
+  const auto with_given = resolve_conditions({&a}, {"a"}, given);
+  EXPECT_EQ(with_given.pa_mm_s2, 250.0);
+  EXPECT_EQ(with_given.dwell_s, 0.505);
+  EXPECT_EQ(with_given.timing_source, "the controller of m.toml");
+  const auto refused = [](const std::vector<const TrainingConditions*>& m,
+                          const GivenConditions& g) -> std::string {
+    std::vector<std::string> ids(m.size(), "m1");
+    try {
+      resolve_conditions(m, ids, g);
+    } catch (const cmmcomp::ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  given.pa_mm_s2 = 1200.0;  // outside the model's PA
+  EXPECT_NE(refused({&a}, given).find("--trained-pa 1200 mm/s², but model m1 was trained at PA"),
+            std::string::npos);
+  given.pa_mm_s2.reset();
+  given.dwell_s = 1.128;  // another controller setting than the model's
+  EXPECT_NE(refused({&a}, given).find("the controller of m.toml has a controller dwell of 1.128 s"),
+            std::string::npos);
+  const TrainingConditions none;  // a format-3 file
+  EXPECT_NE(refused({&none}, GivenConditions{}).find("does not record the PA"), std::string::npos);
+  GivenConditions accelerations;
+  accelerations.pa_mm_s2 = 200.0;
+  accelerations.aa_mm_s2 = 60.0;
+  EXPECT_NE(refused({&none}, accelerations).find("does not record the controller dwell"),
+            std::string::npos);
+  accelerations.dwell_s = 1.128;
+  accelerations.smoothing_s = 0.099;
+  accelerations.machine_label = "the controller of m.toml";
+  EXPECT_EQ(refused({&none}, accelerations), "");
+  TrainingConditions c = a;
+  c.pa_mm_s2 = ConditionRange{500.0, 600.0};  // does not overlap a's
+  EXPECT_NE(refused({&a, &c}, GivenConditions{}).find("do not overlap"), std::string::npos);
+}
+
 }  // namespace

@@ -47,7 +47,25 @@ set -e
 { cat campaign/plan.csv; tail -n 1 campaign/plan.csv; } > dup.csv
 if "$measure" extract --plan dup.csv --recordings campaign/rec -o d.csv 2>dup.txt; then exit 1; fi
 grep -q 'is also on line' dup.txt
-"$train" fit campaign/dataset.csv -o campaign/model.json
+# Trained with its campaign's summary: the model records the conditions it is valid in, quietly.
+"$train" fit campaign/dataset.csv --campaign campaign/dataset.csv.summary.json \
+  -o campaign/model.json 2>fit.err | tee fit.txt
+[ ! -s fit.err ] || { cat fit.err; echo "a fit with its campaign must be quiet"; exit 1; }
+grep -q '^conditions: PA 200 mm/s2, AA 60 mm/s2, dwell 1.1[23][0-9]* s, smoothing 0.09[0-9]* s, axis x, machine unknown, noise floor ' fit.txt
+"$train" conditions campaign/model.json | grep -q 'format 4: conditions: PA 200 mm/s2'
+# Without it, the fit warns that the model will not know its controller timing, and the planner
+# refuses such a model unless given the timing.
+"$train" fit campaign/dataset.csv -o bare.json 2>bare.err >/dev/null
+grep -q "^warning: cmmcomp-train: the model will not record the controller's dwell" bare.err
+plan=$bin/cmmcomp-plan/cmmcomp-plan
+set +e
+"$plan" --model bare.json --budget-um 3 > /dev/null 2>bare-plan.err
+status=$?
+set -e
+[ $status = 2 ] && grep -q 'does not record the controller dwell' bare-plan.err
+"$plan" --model campaign/model.json --budget-um 3 | tee plan.txt
+grep -q "PA 200, AA 60 mm/s² (the model's: the highest it was trained at)" plan.txt
+grep -q "dwell 1.1[23][0-9]* s, smoothing 0.09[0-9]* s (the model's)" plan.txt
 # The held-out check on the machine's own moves: a verdict line, and an exit status that says it.
 "$measure" plan --design l18 --repeats 3 --nominal 100,250,-50 --normal 1,0,0 --holdout 30 \
   -o withheld | tee withheld.txt

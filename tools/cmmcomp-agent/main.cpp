@@ -34,6 +34,7 @@
 #include "agent_config.hpp"
 #include "domain_policy_option.hpp"
 #include "model_slots.hpp"
+#include "outcome_logger.hpp"
 
 namespace {
 
@@ -145,7 +146,7 @@ class ServerThread {
     const auto c = s.counters();
     spdlog::info(
         "{}: {} requests, {} answered ({} with the interval), {} rejected ({} malformed, {} "
-        "timeouts, {} out of range, {} refused), {} heartbeats",
+        "timeouts, {} out of range, {} refused), {} outside the model's domain, {} heartbeats",
         s.where(),
         c.requests,
         c.answered,
@@ -155,17 +156,21 @@ class ServerThread {
         c.timeouts,
         c.out_of_range,
         c.refused,
+        c.outside_domain,
         c.heartbeats);
   }
   static void log_counters(const cmmcomp::plugins::ModbusServer& s) {
     const auto c = s.counters();
     spdlog::info(
-        "{}: {} requests, {} answered, {} computations, {} exceptions ({} bad values), "
-        "{} clients, {} receive errors",
+        "{}: {} requests, {} answered, {} computations ({} refused by the compensator, {} "
+        "outside the model's domain), {} exceptions ({} bad values), {} clients, {} receive "
+        "errors",
         s.where(),
         c.requests,
         c.answered,
         c.computations,
+        c.refused,
+        c.outside_domain,
         c.exceptions,
         c.rejected,
         c.clients_connected,
@@ -236,8 +241,14 @@ int serve(const Options& opt) {
   // Servers are constructed here (bind errors are reported before anything serves).
   std::unique_ptr<cmmcomp::plugins::CanServer> can;
   std::unique_ptr<cmmcomp::plugins::ModbusServer> modbus;
+  // Each server reports its refused requests and outside-domain answers here; the signal loop
+  // below logs them, rate-limited (docs/agent.md, "Log"). Declared before the servers' threads,
+  // so they outlive them.
+  cmmcomp::compensation::ServerOutcomeLog can_outcomes, modbus_outcomes;
+  std::vector<std::unique_ptr<cmmcomp::serving::OutcomeLogger>> outcome_loggers;
   if (!settings.can.interface.empty()) {
     cmmcomp::plugins::CanServerOptions o;
+    o.outcome_log = &can_outcomes;
     o.interface = settings.can.interface;
     o.base_id = settings.can.base_id;
     o.heartbeat_period = std::chrono::milliseconds(settings.can.heartbeat_ms);
@@ -247,6 +258,7 @@ int serve(const Options& opt) {
   if (!settings.modbus.endpoint.empty()) {
     cmmcomp::plugins::ModbusServerOptions o;
     o.unit_id = settings.modbus.unit;
+    o.outcome_log = &modbus_outcomes;
     modbus = std::make_unique<cmmcomp::plugins::ModbusServer>(
         compensator, cmmcomp::plugins::ModbusEndpoint::parse(settings.modbus.endpoint), o);
   }
@@ -259,8 +271,16 @@ int serve(const Options& opt) {
     std::fflush(stdout);
     spdlog::info("listening on {}", where);
   };
-  if (can) serve_on_thread(std::move(can));
-  if (modbus) serve_on_thread(std::move(modbus));
+  if (can) {
+    outcome_loggers.push_back(
+        std::make_unique<cmmcomp::serving::OutcomeLogger>(can->where(), can_outcomes));
+    serve_on_thread(std::move(can));
+  }
+  if (modbus) {
+    outcome_loggers.push_back(
+        std::make_unique<cmmcomp::serving::OutcomeLogger>(modbus->where(), modbus_outcomes));
+    serve_on_thread(std::move(modbus));
+  }
 
   // Reloads run on their own thread, so the signal loop always sees SIGTERM at once, whatever
   // a reload is reading (issue 16 D6). SIGHUPs that arrive during a reload are folded into one
@@ -288,6 +308,7 @@ int serve(const Options& opt) {
   while (true) {
     const timespec tick{0, 200'000'000};
     const int sig = sigtimedwait(&signals, nullptr, &tick);
+    for (auto& l : outcome_loggers) l->drain(std::chrono::steady_clock::now());
     if (failed) {
       exit_code = 1;
       break;
@@ -309,6 +330,7 @@ int serve(const Options& opt) {
   }
   stop = true;
   threads.clear();  // joins; each thread logs its counters
+  for (auto& l : outcome_loggers) l->finish(std::chrono::steady_clock::now());
   {
     const std::lock_guard<std::mutex> lock(reload_mutex);
     reloader_stop = true;

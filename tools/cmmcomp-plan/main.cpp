@@ -45,8 +45,8 @@ struct Options {
   double edge_margin = 0.0;
   int brute_force = 0;
   double trained_pa = 200.0;
-  bool trained_given = false;  ///< --trained-pa or --trained-aa given
   double trained_aa = 60.0;
+  bool trained_pa_given = false, trained_aa_given = false;
   double coverage = 0.95;
   std::string vc_settings;
   bool json = false;
@@ -241,11 +241,31 @@ int run(const Options& opt, bool y_given) {
     for (const auto& m : per_y) p.y_mm.push_back(m.y_mm);
   }
   p.z_mm = opt.z_mm;
-  p.dwell_s = machine.parameters.controller_dwell_s;
-  p.smoothing_s = machine.parameters.controller_smoothing_s;
+  std::vector<const cmmcomp::io::TrainingConditions*> trained;
+  std::vector<std::string> trained_ids;
+  for (const auto& m : per_y) {
+    trained.push_back(&cmmcomp::io::training_conditions(m.model));
+    trained_ids.push_back(cmmcomp::io::model_id(m.model));
+  }
+  if (per_y.empty()) {
+    trained.push_back(&cmmcomp::io::training_conditions(model));
+    trained_ids.push_back(cmmcomp::io::model_id(model));
+  }
+  planning::GivenConditions given;
+  if (opt.trained_pa_given) given.pa_mm_s2 = opt.trained_pa;
+  if (opt.trained_aa_given) given.aa_mm_s2 = opt.trained_aa;
+  if (!opt.machine.empty()) {
+    given.dwell_s = machine.parameters.controller_dwell_s;
+    given.smoothing_s = machine.parameters.controller_smoothing_s;
+    given.machine_label = "the controller of " + opt.machine;
+  }
+  const planning::PlanConditions conditions =
+      planning::resolve_conditions(trained, trained_ids, given);
+  p.dwell_s = conditions.dwell_s;
+  p.smoothing_s = conditions.smoothing_s;
   p.grid_points = opt.grid;
-  p.pa_mm_s2_model = opt.trained_pa;
-  p.aa_mm_s2_model = opt.trained_aa;
+  p.pa_mm_s2_model = conditions.pa_mm_s2;
+  p.aa_mm_s2_model = conditions.aa_mm_s2;
   p.coverage = opt.coverage;
   p.edge_margin = opt.edge_margin;
   if (!opt.reversal_map.empty())
@@ -370,13 +390,11 @@ int run(const Options& opt, bool y_given) {
       planner.ad_mm().hi,
       p.pa_mm_s2_model,
       p.aa_mm_s2_model,
-      opt.trained_given ? "as given with --trained-pa/--trained-aa"
-                        : "assumed: the paper's; the model file does not record them",
+      conditions.acceleration_source,
       ys,
       p.dwell_s,
       p.smoothing_s,
-      opt.machine.empty() ? "the embedded default machine's controller"
-                          : "the controller of " + opt.machine);
+      conditions.timing_source);
   if (p.qualified) {
     std::string nodes;
     for (std::size_t i = 0; i < p.qualified->map_y_mm.size(); ++i) {
@@ -472,7 +490,7 @@ int main(int argc, char** argv) {
   app.add_option("--machine",
                  opt.machine,
                  "machine file whose controller dwell and smoothing count in the time per point "
-                 "(default: the embedded machine)");
+                 "(default: those the model was trained at; it must agree with them)");
   app.add_option("--edge-margin",
                  opt.edge_margin,
                  "share of each model input's range kept clear at both ends, in [0, 0.45) "
@@ -488,14 +506,14 @@ int main(int argc, char** argv) {
   CLI::Option* trained_pa =
       app.add_option("--trained-pa",
                      opt.trained_pa,
-                     "PA the model was trained at [mm/s²] (the paper's 200): the planner keeps it")
-          ->capture_default_str()
+                     "PA to plan at [mm/s²], within the model's training range (default: the "
+                     "highest the model file records; needed for a model that records none)")
           ->check(CLI::PositiveNumber);
   CLI::Option* trained_aa =
       app.add_option("--trained-aa",
                      opt.trained_aa,
-                     "AA the model was trained at [mm/s²] (the paper's 60): the planner keeps it")
-          ->capture_default_str()
+                     "AA to plan at [mm/s²], within the model's training range (default: the "
+                     "highest the model file records; needed for a model that records none)")
           ->check(CLI::PositiveNumber);
   app.add_option("--vc-settings",
                  opt.vc_settings,
@@ -517,7 +535,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return cmmcomp::tools::usage_exit(app, e);
   }
-  opt.trained_given = trained_pa->count() > 0 || trained_aa->count() > 0;
+  opt.trained_pa_given = trained_pa->count() > 0;
+  opt.trained_aa_given = trained_aa->count() > 0;
   try {
     return run(opt, y_option->count() > 0);
   } catch (const cmmcomp::ConfigError& e) {

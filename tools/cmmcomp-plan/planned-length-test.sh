@@ -3,7 +3,7 @@
 # planned-length-test.sh --plan-bin PLAN --agent-bin AGENT --vc-bin VC --out DIR
 #                        --model LABEL[@Y]=PATH [--model LABEL[@Y]=PATH]... [--plan-model PATH |
 #                        --plan-model-at Y=PATH...] [--y LIST] [--edge-margin M] [--qualify]
-#                        [-- MORE VC ARGS]
+#                        [--plan-arg ARG]... [-- MORE VC ARGS]
 #
 # The length test at the planner's settings (docs/planner.md): cmmcomp-plan finds, for the model
 # --plan-model (default: the last --model), or a model per Y (--plan-model-at, repeated; the vc
@@ -22,9 +22,11 @@
 # measures the map first (cmmcomp-vc --qualify --map-only, with the same MORE VC ARGS), the
 # planner judges the uncompensated setting by what map and qualification leave, and the length
 # test's uncompensated columns are qualified the same way (-q). Needs a model that sees Y.
+# --plan-arg: one more argument for cmmcomp-plan (repeat it), e.g. the training conditions of
+# a model file that does not record them (--trained-pa 200 --machine M.toml).
 set -euo pipefail
 plan_bin=""; agent_bin=""; vc_bin=""; out=""; models=(); plan_model=""; plan_at=(); y="0,250,500"
-margin=(); qualify=0
+margin=(); qualify=0; more_plan=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --plan-bin) plan_bin="$2"; shift 2 ;;
@@ -37,8 +39,9 @@ while [ $# -gt 0 ]; do
     --y) y="$2"; shift 2 ;;
     --edge-margin) margin=(--edge-margin "$2"); shift 2 ;;
     --qualify) qualify=1; shift ;;
+    --plan-arg) more_plan+=("$2"); shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '3,24p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '3,26p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "planned-length-test: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -56,7 +59,8 @@ fi
 mkdir -p "$out"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 
-plan_args=("${plan_at[@]}" --y "$y" --mpe-e 1.9,300 --length 20 --share 0.5 "${margin[@]}")
+plan_args=("${plan_at[@]}" --y "$y" --mpe-e 1.9,300 --length 20 --share 0.5 "${margin[@]}"
+           "${more_plan[@]}")
 qualified_vc=()
 if [ $qualify -eq 1 ]; then
   # The map as the length test will measure it (same Y, seed and machine: the same touches).

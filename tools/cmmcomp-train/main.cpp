@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>
+#include <cmmcomp/measure/extract.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/training/evaluation.hpp>
@@ -23,6 +25,8 @@
 #include <exception>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <variant>
 #include <vector>
@@ -56,14 +60,165 @@ struct FitCommand {
   std::string inputs = inputs_option<cmmcomp::PaperInputs>();
 };
 
+/// Where a model's training conditions come from (docs/model-file.md, "Conditions").
+struct ConditionOptions {
+  std::vector<std::string> campaigns;
+  std::string machine, axis, noise_floor;
+  std::string pa, aa;  ///< LO[:HI] [mm/s²]; empty: from the data
+};
+
+/// "LO" or "LO:HI" → a range (0 < LO <= HI).
+cmmcomp::io::ConditionRange parse_condition_range(const std::string& text, const char* option) {
+  const auto number = [&](const std::string& t) {
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || *end != '\0' || !std::isfinite(v) || v <= 0) {
+      throw cmmcomp::ConfigError(std::string(option) + ": '" + text +
+                                 "' is not LO or LO:HI with 0 < LO <= HI [mm/s2]");
+    }
+    return v;
+  };
+  const auto colon = text.find(':');
+  const cmmcomp::io::ConditionRange r =
+      colon == std::string::npos ? cmmcomp::io::ConditionRange{number(text), number(text)}
+                                 : cmmcomp::io::ConditionRange{number(text.substr(0, colon)),
+                                                               number(text.substr(colon + 1))};
+  if (r.lo > r.hi) {
+    throw cmmcomp::ConfigError(std::string(option) + ": '" + text + "' has LO > HI");
+  }
+  return r;
+}
+
+/// Adds the options of ConditionOptions to `cmd`.
+void add_condition_options(CLI::App* cmd, ConditionOptions& c) {
+  cmd->add_option("--campaign",
+                  c.campaigns,
+                  "the campaign summary (OUTPUT.summary.json of cmmcomp-measure extract) of the "
+                  "data, repeatable: the model records its controller timing, axis and noise");
+  cmd->add_option("--machine",
+                  c.machine,
+                  "machine file the data was simulated with, or 'default' (the embedded "
+                  "machine): the model records its name and controller timing");
+  cmd->add_option("--axis", c.axis, "the axis the moves ran on (x, y, z, ...)");
+  cmd->add_option("--noise-floor",
+                  c.noise_floor,
+                  "the data's repeat noise per parameter: MPE,RPE,MAE,RAE [um], or 'table1' "
+                  "(the twin's noise, the paper's Table 1)");
+  cmd->add_option(
+      "--pa", c.pa, "PA the data was taken at, LO or LO:HI [mm/s2] (default: the data's)");
+  cmd->add_option(
+      "--aa", c.aa, "AA the data was taken at, LO or LO:HI [mm/s2] (default: the data's)");
+}
+
+/// The conditions the model records: PA and AA from the data, the controller timing and the
+/// noise from the campaigns, or the timing and name from a machine file; --axis and
+/// --noise-floor set theirs. ConfigError when two sources disagree.
+cmmcomp::io::TrainingConditions fit_conditions(const ConditionOptions& cmd,
+                                               const std::vector<cmmcomp::DatasetRow>& rows) {
+  using cmmcomp::ConfigError;
+  cmmcomp::io::TrainingConditions c = cmmcomp::io::dataset_conditions(rows);
+  if (!cmd.pa.empty()) c.pa_mm_s2 = parse_condition_range(cmd.pa, "--pa");
+  if (!cmd.aa.empty()) c.aa_mm_s2 = parse_condition_range(cmd.aa, "--aa");
+  std::vector<cmmcomp::measure::CampaignSummary> summaries;
+  for (const std::string& path : cmd.campaigns) {
+    summaries.push_back(cmmcomp::measure::read_extraction_summary(path));
+  }
+  const cmmcomp::io::TrainingConditions from_campaigns =
+      cmmcomp::measure::campaign_conditions(summaries);
+  c.dwell_s = from_campaigns.dwell_s;
+  c.smoothing_s = from_campaigns.smoothing_s;
+  c.axis = from_campaigns.axis;
+  c.noise_floor = from_campaigns.noise_floor;
+  if (!cmd.machine.empty()) {
+    const cmmcomp::dynamics::Machine m = cmd.machine == "default"
+                                             ? cmmcomp::dynamics::default_machine()
+                                             : cmmcomp::dynamics::load_machine(cmd.machine);
+    c.machine = m.name;
+    const auto take = [&](std::optional<double>& slot, double value, const char* what) {
+      if (slot && std::abs(*slot - value) > 0.010) {
+        throw ConfigError(fmt::format(
+            "--machine {}: controller {} {} s, but the campaign ran with {} s: give the machine "
+            "file the campaign's controller setting",
+            cmd.machine,
+            what,
+            value,
+            *slot));
+      }
+      if (!slot) slot = value;
+    };
+    take(c.dwell_s, m.parameters.controller_dwell_s, "dwell");
+    take(c.smoothing_s, m.parameters.controller_smoothing_s, "smoothing");
+  }
+  if (!cmd.axis.empty()) {
+    if (!c.axis.empty() && c.axis != cmd.axis) {
+      throw ConfigError("--axis " + cmd.axis + ", but the campaign ran on axis " + c.axis);
+    }
+    c.axis = cmd.axis;
+  }
+  if (cmd.noise_floor == "table1") {
+    c.noise_floor.assign(cmmcomp::paper::kTable1Std.begin(), cmmcomp::paper::kTable1Std.end());
+  } else if (!cmd.noise_floor.empty()) {
+    c.noise_floor.clear();
+    std::stringstream list(cmd.noise_floor);
+    for (std::string item; std::getline(list, item, ',');) {
+      char* end = nullptr;
+      const double v = std::strtod(item.c_str(), &end);
+      if (item.empty() || *end != '\0' || !std::isfinite(v) || v < 0) {
+        throw ConfigError("--noise-floor: '" + item + "' is not a number >= 0");
+      }
+      c.noise_floor.push_back(v);
+    }
+    if (c.noise_floor.size() != 4) {
+      throw ConfigError("--noise-floor: expected 4 values (MPE, RPE, MAE, RAE [um]) or 'table1'");
+    }
+  }
+  return c;
+}
+
+/// The conditions as one line for the user, "unknown" where the model will not know.
+std::string describe(const cmmcomp::io::TrainingConditions& c) {
+  const auto range = [](const std::optional<cmmcomp::io::ConditionRange>& r) {
+    if (!r) return std::string("unknown");
+    return r->lo == r->hi ? fmt::format("{:g}", r->lo) : fmt::format("{:g}..{:g}", r->lo, r->hi);
+  };
+  const auto value = [](const std::optional<double>& v) {
+    return v ? fmt::format("{:g} s", *v) : std::string("unknown");
+  };
+  std::string noise = "unknown";
+  if (!c.noise_floor.empty()) {
+    noise = fmt::format("{:.3g}, {:.3g}, {:.3g}, {:.3g} um",
+                        c.noise_floor[0],
+                        c.noise_floor[1],
+                        c.noise_floor[2],
+                        c.noise_floor[3]);
+  }
+  return fmt::format(
+      "PA {} mm/s2, AA {} mm/s2, dwell {}, smoothing {}, axis {}, machine {}, noise floor {}",
+      range(c.pa_mm_s2),
+      range(c.aa_mm_s2),
+      value(c.dwell_s),
+      value(c.smoothing_s),
+      c.axis.empty() ? "unknown" : c.axis,
+      c.machine.empty() ? "unknown" : c.machine,
+      noise);
+}
+
 template <typename Inputs>
-int run_fit(const FitCommand& cmd) {
+int run_fit(const FitCommand& cmd, const ConditionOptions& condition_options) {
   constexpr int kInputs = Inputs::kCount;
   using namespace cmmcomp::training;
   const auto rows = cmmcomp::io::read_dataset_csv(cmd.data);
   if (rows.size() < static_cast<std::size_t>(cmd.folds)) {
     throw cmmcomp::ConfigError(
         fmt::format("{}: {} samples, fewer than the {} folds", cmd.data, rows.size(), cmd.folds));
+  }
+  const cmmcomp::io::TrainingConditions conditions = fit_conditions(condition_options, rows);
+  if (!conditions.dwell_s || !conditions.smoothing_s) {
+    std::fprintf(stderr,
+                 "warning: cmmcomp-train: the model will not record the controller's dwell and "
+                 "smoothing (no --campaign or --machine): cmmcomp-plan refuses to plan with it "
+                 "unless given them; pass --campaign OUTPUT.summary.json (the extract's summary) "
+                 "or --machine FILE|default (a twin's dataset)\n");
   }
   const auto samples = cmmcomp::training::samples<Inputs>(rows);
   FnnTrainingOptions options;
@@ -139,6 +294,8 @@ int run_fit(const FitCommand& cmd) {
   file.training.trained_at = cmmcomp::io::utc_timestamp_now();
   file.training.seed = cmd.seed;
   file.training.tool_version = std::string("cmmcomp-train ") + CMMCOMP_VERSION_STRING;
+  file.conditions = conditions;
+  std::printf("conditions: %s\n", describe(conditions).c_str());
   file.interval = result.interval;
   if (result.interval.available()) {
     std::vector<std::string> outputs;
@@ -333,6 +490,20 @@ int main(int argc, char** argv) {
                   "carriage position, 243 rules)")
       ->check(CLI::IsMember(served_inputs))
       ->capture_default_str();
+  ConditionOptions fit_conditions_opt;
+  add_condition_options(fit, fit_conditions_opt);
+
+  ConditionOptions set_conditions_opt;
+  std::string conditions_model, conditions_output, conditions_data;
+  CLI::App* set_conditions = app.add_subcommand(
+      "conditions",
+      "record the training conditions in a model file (e.g. one of format 3, which has none), "
+      "the network unchanged; prints them for a model given alone");
+  set_conditions->add_option("model", conditions_model, "model file")->required();
+  set_conditions->add_option("-o,--output", conditions_output, "model file to write");
+  set_conditions->add_option(
+      "--data", conditions_data, "the model's training dataset: PA and AA from it");
+  add_condition_options(set_conditions, set_conditions_opt);
 
   std::string model_path, data_path, plot_path, header_path, symbol = "cmmcomp_model";
   bool json = false;
@@ -374,9 +545,49 @@ int main(int argc, char** argv) {
       // --inputs is one of the served sets' values (CLI11 checked it).
       int rc = 2;
       cmmcomp::for_each_input_set(cmmcomp::ServedInputSets{}, [&](auto set) {
-        if (fit_cmd.inputs == inputs_option(set)) rc = run_fit<decltype(set)>(fit_cmd);
+        if (fit_cmd.inputs == inputs_option(set)) {
+          rc = run_fit<decltype(set)>(fit_cmd, fit_conditions_opt);
+        }
       });
       return rc;
+    }
+    if (set_conditions->parsed()) {
+      auto any = cmmcomp::io::load_compensation_model(conditions_model);
+      if (conditions_output.empty()) {
+        std::printf("%s: model %s, format %d: conditions: %s\n",
+                    conditions_model.c_str(),
+                    cmmcomp::io::model_id(any).c_str(),
+                    std::visit([](const auto& f) { return f.format_version; }, any),
+                    describe(cmmcomp::io::training_conditions(any)).c_str());
+        return 0;
+      }
+      std::vector<cmmcomp::DatasetRow> rows;
+      if (!conditions_data.empty()) {
+        rows = cmmcomp::io::read_dataset_csv(conditions_data);
+        const std::string recorded =
+            std::visit([](const auto& f) { return f.training.data_file_sha256; }, any);
+        const std::string hash = cmmcomp::io::sha256_file_hex(conditions_data);
+        if (!recorded.empty() && recorded != hash) {
+          throw cmmcomp::ConfigError(conditions_data +
+                                     " is not the model's training data (SHA-256 " + hash +
+                                     ", the model records " + recorded + ")");
+        }
+      } else if (set_conditions_opt.pa.empty() || set_conditions_opt.aa.empty()) {
+        throw cmmcomp::ConfigError(
+            "give --data (the training dataset) or both --pa and --aa: the model's PA and AA");
+      }
+      const cmmcomp::io::TrainingConditions c = fit_conditions(set_conditions_opt, rows);
+      const std::string id = std::visit(
+          [&](auto& file) {
+            file.conditions = c;
+            return cmmcomp::io::save_model_file(conditions_output, file);
+          },
+          any);
+      std::printf("conditions: %s\nwrote %s (model id %s)\n",
+                  describe(c).c_str(),
+                  conditions_output.c_str(),
+                  id.c_str());
+      return 0;
     }
     if (eval->parsed() || exp->parsed()) {
       // Any input set the compensator serves; the file's names say which.

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmmcomp/compensation/conditions.hpp>
 #include <cmmcomp/compensation/move_prediction.hpp>
 #include <cmmcomp/compensation/move_request.hpp>
 #include <cmmcomp/exceptions.hpp>
@@ -103,7 +104,7 @@ class BasicMoveCompensator {
                  std::uint64_t model_id = 0,
                  std::string* why = nullptr) {
     static_assert(kServes<Inputs>, "this compensator does not serve the model's input set");
-    return publish_impl(axis, model, IntervalCalibration{}, model_id, why);
+    return publish_impl(axis, model, IntervalCalibration{}, Conditions{}, model_id, why);
   }
 
   /// The same, with the model's interval calibration (its file's `uncertainty`): every
@@ -116,7 +117,22 @@ class BasicMoveCompensator {
                  std::uint64_t model_id = 0,
                  std::string* why = nullptr) {
     static_assert(kServes<Inputs>, "this compensator does not serve the model's input set");
-    return publish_impl(axis, model, interval, model_id, why);
+    return publish_impl(axis, model, interval, Conditions{}, model_id, why);
+  }
+
+  /// The same, with the accelerations the model was trained at (its file's `conditions`,
+  /// io::compensation_conditions): a move outside them is flagged or refused as
+  /// compensation/conditions.hpp says. kInvalidInput also when `conditions` is not valid
+  /// (conditions_are_valid).
+  template <typename Inputs>
+  Status publish(int axis,
+                 const Model<Inputs, double>& model,
+                 const IntervalCalibration& interval,
+                 const Conditions& conditions,
+                 std::uint64_t model_id = 0,
+                 std::string* why = nullptr) {
+    static_assert(kServes<Inputs>, "this compensator does not serve the model's input set");
+    return publish_impl(axis, model, interval, conditions, model_id, why);
   }
 
   /// Number of inputs of the model last published for `axis` (0 when none or bad axis).
@@ -143,14 +159,15 @@ class BasicMoveCompensator {
   }
 
   /// Predicts the dynamic errors of `move` with the model of `move.axis` (the inputs its set
-  /// names, gathered from `move`; outside the training ranges: CompensatorOptions::outside_domain)
-  /// and fills `out`: the four errors [µm],
-  /// correction_um = rae_um·direction, flags, model id and the sequence echo.
+  /// names, gathered from `move`; outside the training ranges or conditions:
+  /// CompensatorOptions::outside_domain and compensation/conditions.hpp) and fills `out`: the
+  /// four errors [µm], correction_um = rae_um·direction, flags, model id and the sequence echo.
   /// RT-safe and wait-free: no allocation, no lock, no syscall, two atomic RMWs; never writes
   /// NaN or inf. `out` is untouched unless ok(status).
-  /// Returns kOk; kOutsideDomain (policy kClamp or kExtrapolate; kFlagOutsideDomain set);
-  /// kInvalidInput (request fails validate_move, or the model's result or RAE·d is not finite);
-  /// kNoModel (nothing published for the axis); kOutsideDomainRejected (policy kReject).
+  /// Returns kOk; kOutsideDomain (an input, PA or AA outside the model's domain, policy kClamp
+  /// or kExtrapolate; kFlagOutsideDomain set); kInvalidInput (request fails validate_move, or
+  /// the model's result or RAE·d is not finite); kNoModel (nothing published for the axis);
+  /// kOutsideDomainRejected (outside with policy kReject, or far outside under any policy).
   [[nodiscard]] Status before_approach(const MoveRequest& move, Correction& out) const noexcept {
     if (validate_move(move) != Status::kOk) return Status::kInvalidInput;
     Axis& a = axes_[move.axis];
@@ -160,7 +177,8 @@ class BasicMoveCompensator {
     Buffer& b = a.buffers[static_cast<std::size_t>(index)];
     std::array<double, kModelOutputs> y;
     std::array<double, kModelOutputs> u95;
-    const Status s = evaluate_served(b.model, b.interval, move, y, u95, options_.outside_domain);
+    const Status s =
+        evaluate_served(b.model, b.interval, b.conditions, move, y, u95, options_.outside_domain);
     const std::uint64_t model_id = b.model_id;
     const bool has_interval = b.interval.available();
     b.exits.fetch_add(1, std::memory_order_release);  // the buffer is not read after this
@@ -176,21 +194,26 @@ class BasicMoveCompensator {
   /// One model of any served set, in place (no heap).
   using AnyModel = std::variant<Model<Sets, double>...>;
 
-  /// Evaluates the alternative `model` holds. No std::visit: it could throw
-  /// bad_variant_access, which a variant of trivially copyable models never needs.
+  /// Evaluates the alternative `model` holds, within its domain (conditions.hpp). No
+  /// std::visit: it could throw bad_variant_access, which a variant of trivially copyable
+  /// models never needs.
   template <std::size_t kIndex = 0>
   static Status evaluate_served(const AnyModel& model,
                                 const IntervalCalibration& interval,
+                                const Conditions& conditions,
                                 const MoveRequest& move,
                                 std::array<double, kModelOutputs>& y,
                                 std::array<double, kModelOutputs>& u95,
                                 fuzzy::DomainPolicy policy) noexcept {
     if constexpr (kIndex < sizeof...(Sets)) {
       if (const auto* m = std::get_if<kIndex>(&model)) {
+        const Domain d = worse(input_domain(*m, move), condition_domain(conditions, move));
+        const Status refused = domain_status(Status::kOk, d, policy);
+        if (refused == Status::kOutsideDomainRejected) return refused;
         u95 = interval_of(*m, interval, move);
-        return fuzzy::evaluate(*m, m->input(move), y, policy);
+        return domain_status(fuzzy::evaluate(*m, m->input(move), y, policy), d, policy);
       }
-      return evaluate_served<kIndex + 1>(model, interval, move, y, u95, policy);
+      return evaluate_served<kIndex + 1>(model, interval, conditions, move, y, u95, policy);
     } else {
       return Status::kNoModel;  // unreachable: a buffer always holds a served model
     }
@@ -199,6 +222,7 @@ class BasicMoveCompensator {
   struct Buffer {
     AnyModel model{};
     IntervalCalibration interval{};  ///< published with the model
+    Conditions conditions{};         ///< published with the model
     std::uint64_t model_id = 0;
     std::atomic<std::uint64_t> exits{0};  ///< readers that left this buffer
   };
@@ -213,6 +237,7 @@ class BasicMoveCompensator {
   Status publish_impl(int axis,
                       const Model<Inputs, double>& model,
                       const IntervalCalibration& interval,
+                      const Conditions& conditions,
                       std::uint64_t model_id,
                       std::string* why) {
     if (axis < 0 || axis >= kMaxAxes) {
@@ -221,6 +246,10 @@ class BasicMoveCompensator {
     }
     if (!fuzzy::validate(model, why)) return Status::kInvalidInput;
     if (!fuzzy::validate_interval(interval, why)) return Status::kInvalidInput;
+    if (!conditions_are_valid(conditions)) {
+      if (why != nullptr) *why = "a PA or AA condition is not a finite range with 0 < lo <= hi";
+      return Status::kInvalidInput;
+    }
     const std::lock_guard<std::mutex> lock(publish_mutex_);
     Axis& a = axes_[static_cast<std::size_t>(axis)];
     const std::uint64_t old_index = a.state.load(std::memory_order_relaxed) >> kIndexShift;
@@ -229,6 +258,7 @@ class BasicMoveCompensator {
     Buffer& b = a.buffers[next];
     b.model.template emplace<Model<Inputs, double>>(model);
     b.interval = interval;
+    b.conditions = conditions;
     b.model_id = model_id;
     b.exits.store(0, std::memory_order_relaxed);
     a.published_id.store(model_id, std::memory_order_relaxed);

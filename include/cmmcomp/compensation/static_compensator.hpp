@@ -31,6 +31,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmmcomp/compensation/conditions.hpp>
 #include <cmmcomp/compensation/move_prediction.hpp>
 #include <cmmcomp/compensation/move_request.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
@@ -100,8 +101,21 @@ class StaticMoveCompensator {
                  const IntervalCalibration& interval,
                  std::uint64_t model_id = 0,
                  fuzzy::ModelProblem* problem = nullptr) noexcept {
+    return publish(axis, model, interval, Conditions{}, model_id, problem);
+  }
+
+  /// The same, with the accelerations the model was trained at (conditions.hpp): a move
+  /// outside them is flagged or refused. kInvalidInput also when `conditions` is not valid.
+  Status publish(int axis,
+                 const Network& model,
+                 const IntervalCalibration& interval,
+                 const Conditions& conditions,
+                 std::uint64_t model_id = 0,
+                 fuzzy::ModelProblem* problem = nullptr) noexcept {
     if (axis < 0 || axis >= kAxes) return Status::kInvalidInput;
-    if (!fuzzy::interval_is_valid(interval)) return Status::kInvalidInput;
+    if (!fuzzy::interval_is_valid(interval) || !conditions_are_valid(conditions)) {
+      return Status::kInvalidInput;
+    }
     const fuzzy::ModelProblem found = fuzzy::find_problem(model);
     if (problem != nullptr) *problem = found;
     if (found) return Status::kInvalidInput;
@@ -114,6 +128,7 @@ class StaticMoveCompensator {
     // member's lifetime, as the trivial copy of publish_bytes does.
     std::memcpy(static_cast<void*>(&b.slot.model), &model, sizeof(Model));
     b.interval = interval;
+    b.conditions = conditions;
     b.model_id = model_id;
     published_ = true;
     a.current.store(next + 1, std::memory_order_release);
@@ -139,9 +154,21 @@ class StaticMoveCompensator {
                        const IntervalCalibration& interval,
                        std::uint64_t model_id = 0,
                        fuzzy::ModelProblem* problem = nullptr) noexcept {
+    return publish_bytes(axis, bytes, size, interval, Conditions{}, model_id, problem);
+  }
+
+  /// The same, with the model's training conditions (published with it into the same buffer).
+  /// kInvalidInput also when `conditions` is not valid (conditions_are_valid).
+  Status publish_bytes(int axis,
+                       const void* bytes,
+                       std::size_t size,
+                       const IntervalCalibration& interval,
+                       const Conditions& conditions,
+                       std::uint64_t model_id = 0,
+                       fuzzy::ModelProblem* problem = nullptr) noexcept {
     static_assert(std::is_trivially_copyable_v<Model>, "a model is plain bytes");
     if (axis < 0 || axis >= kAxes || bytes == nullptr || size != sizeof(Model) ||
-        !fuzzy::interval_is_valid(interval)) {
+        !fuzzy::interval_is_valid(interval) || !conditions_are_valid(conditions)) {
       return Status::kInvalidInput;
     }
     Axis& a = axes_[static_cast<std::size_t>(axis)];
@@ -153,6 +180,7 @@ class StaticMoveCompensator {
     if (problem != nullptr) *problem = found;
     if (found) return Status::kInvalidInput;
     b.interval = interval;
+    b.conditions = conditions;
     b.model_id = model_id;
     published_ = true;
     a.current.store(next + 1, std::memory_order_release);
@@ -174,9 +202,9 @@ class StaticMoveCompensator {
   }
 
   /// Predicts the dynamic errors of `move` with the model of `move.axis` and fills `out`, as
-  /// MoveCompensator::before_approach does (same statuses, same Correction). RT-safe: no
-  /// allocation, no lock, no syscall, no loop but the evaluator's fixed ones; callable from an
-  /// interrupt handler. `out` is untouched unless ok(status).
+  /// MoveCompensator::before_approach does (same statuses, same domain rules, same Correction).
+  /// RT-safe: no allocation, no lock, no syscall, no loop but the evaluator's fixed ones; callable
+  /// from an interrupt handler. `out` is untouched unless ok(status).
   [[nodiscard]] Status before_approach(const MoveRequest& move, Correction& out) const noexcept {
     if (validate_move(move) != Status::kOk || move.axis >= kAxes) return Status::kInvalidInput;
     Axis& a = axes_[move.axis];
@@ -185,7 +213,13 @@ class StaticMoveCompensator {
     Buffer& b = a.buffers[current - 1];
     b.readers.fetch_add(1, std::memory_order_acquire);
     typename Model::RawOutput y;
-    const Status s = fuzzy::evaluate(b.slot.model, Model::input(move), y, outside_domain_);
+    const Domain d = worse(input_domain(b.slot.model, move), condition_domain(b.conditions, move));
+    if (domain_status(Status::kOk, d, outside_domain_) == Status::kOutsideDomainRejected) {
+      b.readers.fetch_sub(1, std::memory_order_release);
+      return Status::kOutsideDomainRejected;
+    }
+    const Status s = domain_status(
+        fuzzy::evaluate(b.slot.model, Model::input(move), y, outside_domain_), d, outside_domain_);
     const auto u95 = interval_of(b.slot.model, b.interval, move);
     const bool has_interval = b.interval.available();
     const std::uint64_t model_id = b.model_id;
@@ -212,6 +246,7 @@ class StaticMoveCompensator {
   struct Buffer {
     ModelSlot slot;
     IntervalCalibration interval{};  ///< published with the model
+    Conditions conditions{};         ///< published with the model
     std::uint64_t model_id = 0;
     std::atomic<std::uint32_t> readers{0};  ///< readers inside this buffer now
   };

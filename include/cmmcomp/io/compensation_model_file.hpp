@@ -112,8 +112,16 @@ const std::string& model_id(const CompensationModelFile& file);
 /// Number of inputs of the file's network.
 int model_inputs(const CompensationModelFile& file);
 
-/// Publishes the file's network and its interval calibration (none for a format-1 file) into
-/// `axis` of `compensator` with numeric_model_id(file).
+/// The conditions the compensator checks (PA and AA; compensation/conditions.hpp) from a
+/// file's `conditions`: unknown ones stay unknown.
+compensation::Conditions compensation_conditions(const TrainingConditions& conditions);
+
+/// The file's training conditions (all unknown for a format-3 or older file).
+const TrainingConditions& training_conditions(const CompensationModelFile& file);
+
+/// Publishes the file's network, its interval calibration (none for a format-1 file) and its
+/// training conditions (compensation_conditions) into `axis` of `compensator` with
+/// numeric_model_id(file).
 /// Returns what MoveCompensator::publish returns.
 Status publish(compensation::MoveCompensator& compensator,
                int axis,

@@ -7,6 +7,7 @@
 /// starting with `#` are skipped.
 #pragma once
 
+#include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/schema.hpp>
 #include <string>
 #include <vector>
@@ -17,6 +18,10 @@ namespace cmmcomp::io {
 using cmmcomp::DatasetColumnRange;
 using cmmcomp::DatasetRow;
 using cmmcomp::kDatasetColumns;
+
+/// The training conditions a dataset itself states: the range of its PA and of its AA (every
+/// other condition unknown). Empty rows: nothing known.
+TrainingConditions dataset_conditions(const std::vector<DatasetRow>& rows);
 
 /// Parses CSV text; `source` names it in messages. A UTF-8 byte-order mark before the header
 /// is skipped. Throws ConfigError "source:line: column 'name': what is wrong" for a missing

@@ -4,7 +4,9 @@
 /// Format (docs/model-file.md): one JSON object with `format` = "cmmcomp-tsk-model",
 /// `format_version` = 3, `architecture`, `inputs` (names, units, normalisation ranges),
 /// `outputs`, `parameters` (centres, widths and consequents as nested arrays, same order as the
-/// flat layout of tsk_params.hpp), `training` metadata, `uncertainty` (the prediction interval's
+/// flat layout of tsk_params.hpp), `training` metadata, `conditions` (what the model was trained
+/// at that is not an input: accelerations, controller timing, axis, machine, noise floor),
+/// `uncertainty` (the prediction interval's
 /// calibration, or null; docs/uncertainty.md), and `checksum`: the SHA-256 (lower-case
 /// hex) of the compact, key-sorted serialisation of the object without `checksum`. Loading
 /// validates everything and throws ConfigError "source: where: what is wrong".
@@ -20,6 +22,7 @@
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/sha256.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,9 +30,11 @@ namespace cmmcomp::io {
 
 /// `format` of every model file.
 inline constexpr const char* kModelFileFormat = "cmmcomp-tsk-model";
-/// `format_version` this library writes. It reads this one, kModelFileVersionNoCornerGain and
-/// kModelFileVersionNoUncertainty.
-inline constexpr int kModelFileVersion = 3;
+/// `format_version` this library writes. It reads this one, kModelFileVersionNoConditions,
+/// kModelFileVersionNoCornerGain and kModelFileVersionNoUncertainty.
+inline constexpr int kModelFileVersion = 4;
+/// The third format version: no `conditions`; still read, with every condition unknown.
+inline constexpr int kModelFileVersionNoConditions = 3;
 /// The second format version: `uncertainty` without `corner_gain`; still read, with every corner
 /// gain 0 (the interval as version 2 defined it).
 inline constexpr int kModelFileVersionNoCornerGain = 2;
@@ -58,6 +63,47 @@ struct ModelMetadata {
   bool operator!=(const ModelMetadata& o) const { return !(*this == o); }
 };
 
+/// A closed range of a training condition: lo <= hi, both finite (a single value: lo == hi).
+struct ConditionRange {
+  double lo = 0.0;
+  double hi = 0.0;
+  bool operator==(const ConditionRange& o) const { return lo == o.lo && hi == o.hi; }
+  bool operator!=(const ConditionRange& o) const { return !(*this == o); }
+};
+
+/// What a model was trained at that is not one of its inputs (the `conditions` object, format
+/// 4; docs/model-file.md, "Conditions"). Every field may be unknown: a file of format 3 or
+/// older has none, and a trainer records only what its data or its user tell it. Covered by the
+/// checksum. The compensator refuses or flags a move whose PA or AA lies outside a known range
+/// (compensation/conditions.hpp); cmmcomp-plan plans with these values.
+struct TrainingConditions {
+  /// Positioning accelerations PA of the training moves [mm/s²], lo > 0; none: unknown.
+  std::optional<ConditionRange> pa_mm_s2;
+  /// Approach accelerations AA of the training moves [mm/s²], lo > 0; none: unknown.
+  std::optional<ConditionRange> aa_mm_s2;
+  /// The controller's dwell [s] (the stop between positioning and approach), >= 0.
+  std::optional<double> dwell_s;
+  /// The controller's acceleration smoothing [s] (S-curve jerk time), >= 0.
+  std::optional<double> smoothing_s;
+  std::string axis;     ///< the moving axis the moves were taken on ("x", …); empty: unknown
+  std::string machine;  ///< the machine's name (its machine file's `name`); empty: unknown
+  /// The campaign's noise floor per output [same unit as the output] (the repeatability σ of
+  /// each parameter, e.g. from cmmcomp-measure extract's summary), >= 0; empty: unknown.
+  std::vector<double> noise_floor;
+
+  /// True when nothing is known (a format-3 file).
+  bool unknown() const {
+    return !pa_mm_s2 && !aa_mm_s2 && !dwell_s && !smoothing_s && axis.empty() && machine.empty() &&
+           noise_floor.empty();
+  }
+  bool operator==(const TrainingConditions& o) const {
+    return pa_mm_s2 == o.pa_mm_s2 && aa_mm_s2 == o.aa_mm_s2 && dwell_s == o.dwell_s &&
+           smoothing_s == o.smoothing_s && axis == o.axis && machine == o.machine &&
+           noise_floor == o.noise_floor;
+  }
+  bool operator!=(const TrainingConditions& o) const { return !(*this == o); }
+};
+
 /// Sizes stored in a file's `architecture` (see `read_model_architecture`).
 struct ModelArchitecture {
   int inputs = 0;          ///< inputs of the network
@@ -77,6 +123,7 @@ struct ModelFile {
   std::array<std::string, kOutputs> output_names{};  ///< unique, non-empty (e.g. "mpe_um")
   std::array<std::string, kOutputs> output_units{};  ///< unit of each output (e.g. "um")
   ModelMetadata training{};                          ///< how it was trained
+  TrainingConditions conditions{};                   ///< what it was trained at (`conditions`)
   /// The prediction interval's calibration (`uncertainty`); not available() when the file has
   /// none (`uncertainty` null, or format version 1).
   fuzzy::IntervalCalibration<kOutputs> interval{};
@@ -104,6 +151,7 @@ struct ModelData {
   std::vector<fuzzy::InputRange> ranges;
   std::vector<double> params;  ///< flat layout of tsk_params.hpp
   ModelMetadata training;
+  TrainingConditions conditions;
   double interval_coverage = 0;  ///< 0: no calibration (then the vectors are empty)
   std::vector<double> interval_half_width, interval_gain, interval_corner_gain;
   std::string interval_method;
@@ -138,6 +186,7 @@ ModelData to_data(const ModelFile<kInputs, kSets, kOutputs>& file) {
   d.ranges.assign(file.model.ranges.begin(), file.model.ranges.end());
   d.params.assign(file.model.params.values.begin(), file.model.params.values.end());
   d.training = file.training;
+  d.conditions = file.conditions;
   if (file.interval.available()) {
     d.interval_coverage = file.interval.coverage;
     d.interval_half_width.assign(file.interval.half_width.begin(), file.interval.half_width.end());
@@ -167,6 +216,7 @@ ModelFile<kInputs, kSets, kOutputs> from_data(const ModelData& d) {
     f.model.params.values[k] = d.params[k];
   }
   f.training = d.training;
+  f.conditions = d.conditions;
   if (d.interval_coverage > 0) {
     f.interval.coverage = d.interval_coverage;
     for (std::size_t o = 0; o < static_cast<std::size_t>(kOutputs); ++o) {
@@ -189,7 +239,9 @@ ModelFile<kInputs, kSets, kOutputs> from_data(const ModelData& d) {
 /// computed). Setup only. Throws ConfigError if `file` would not load back: model not valid
 /// (`fuzzy::validate`), an empty or duplicate name, `training.cv_rmse` not one finite value >= 0
 /// per output, a malformed `trained_at` or `data_file_sha256`, a negative or non-finite lambda,
-/// an empty method or tool version, an interval calibration that is not valid
+/// an empty method or tool version, a condition out of its range (a PA or AA range with lo <= 0
+/// or lo > hi, a negative dwell or smoothing, a noise floor not one finite value >= 0 per output,
+/// a control character in the axis or machine), an interval calibration that is not valid
 /// (fuzzy::validate_interval) or available without a method or samples.
 template <int kInputs, int kSets, int kOutputs>
 std::string format_model_json(const ModelFile<kInputs, kSets, kOutputs>& file) {
@@ -199,7 +251,8 @@ std::string format_model_json(const ModelFile<kInputs, kSets, kOutputs>& file) {
 /// Parses and validates model file text; `source` names it in messages. The file's
 /// architecture must be kInputs × kSets × kOutputs. Setup only. Throws ConfigError naming the
 /// source, the key path and the problem: not JSON (with byte offset), wrong `format`, missing or
-/// unsupported `format_version` (1, 2 and 3 are read; 1 has no `uncertainty`, 2 no `corner_gain`),
+/// unsupported `format_version` (1 to 4 are read; 1 has no `uncertainty`, 2 no `corner_gain`, 3
+/// no `conditions`),
 /// architecture mismatch
 /// (both stated), a missing or unknown key, a wrong type or array length, a non-finite number,
 /// width <= 0, lo >= hi, a checksum mismatch, or a number not written in the canonical form this

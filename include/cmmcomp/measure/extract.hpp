@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/measure/plan.hpp>
 #include <cmmcomp/schema.hpp>
 #include <limits>
@@ -149,6 +150,7 @@ struct Extraction {
   /// moves whose dwell is at least 0.1 s; NaN when PD does not vary by 20 % or no dwell is.
   double scale_factor = std::numeric_limits<double>::quiet_NaN();
   int scale_factor_moves = 0;
+  std::string axis;  ///< the plan's axis ("x", "y", "z"), empty when its moves differ
   /// Why the whole run is refused (empty: it is not): the dataset must not be written.
   std::string refusal;
   /// `warning:` lines for stderr: cause, evidence and fix.
@@ -214,6 +216,36 @@ std::string format_extraction_report(const Extraction& extraction);
 /// skipped by reason, the controller timing used and measured, the clock, the travel ratio, the
 /// noise per parameter against Table 1's σ, the refusal and the warnings.
 std::string format_extraction_summary(const Extraction& extraction);
+
+/// `format` of the campaign summary JSON.
+inline constexpr const char* kSummaryFormat = "cmmcomp-extraction-summary";
+
+/// What cmmcomp-train reads back from a campaign summary to record the model's training
+/// conditions: the controller timing the moves ran with, the axis, the repeat noise.
+struct CampaignSummary {
+  std::string source;   ///< the file
+  std::string axis;     ///< empty: not one axis
+  std::string refusal;  ///< non-empty: the campaign was refused
+  int extracted = 0;
+  double dwell_s = std::numeric_limits<double>::quiet_NaN();      ///< used (given or measured)
+  double smoothing_s = std::numeric_limits<double>::quiet_NaN();  ///< used (given or measured)
+  /// Repeat σ per parameter (MPE, RPE, MAE, RAE) [µm]; NaN without repeats.
+  std::array<double, 4> repeat_sd_um{};
+};
+
+/// Parses a campaign summary (format_extraction_summary's text). ConfigError naming the source
+/// and the missing or malformed key.
+CampaignSummary parse_extraction_summary(const std::string& text, const std::string& source);
+/// Reads a campaign summary file (at most 1 MiB) as parse_extraction_summary.
+CampaignSummary read_extraction_summary(const std::string& path);
+
+/// The training conditions that campaigns state (for the model file, io::TrainingConditions):
+/// the controller dwell and smoothing they ran with, their common axis, and the noise floor, the
+/// repeat σ of each parameter pooled over the campaigns (unknown when any has no repeats).
+/// ConfigError when a campaign was refused, or when two disagree on the timing by more than
+/// `timing_tolerance_s` or on the axis (one model is trained at one setting, on one axis).
+io::TrainingConditions campaign_conditions(const std::vector<CampaignSummary>& campaigns,
+                                           double timing_tolerance_s = 0.010);
 
 /// The campaign summary as a gnuplot script (pngcairo, its data inline) that draws `png_path`:
 /// the controller timing measured per move against the run's, each parameter's repeat σ against

@@ -177,4 +177,29 @@ class FeedPlanner {
 /// "compensated" / "uncompensated".
 const char* to_string(Mode mode);
 
+/// What the planner may take as given instead of the model files' training conditions.
+struct GivenConditions {
+  std::optional<double> pa_mm_s2, aa_mm_s2;  ///< --trained-pa / --trained-aa
+  /// The controller timing of a machine file the user named (--machine); none: not named.
+  std::optional<double> dwell_s, smoothing_s;
+  std::string machine_label;  ///< how to name it in messages ("the controller of m.toml")
+};
+
+/// The PA, AA and controller timing to plan with, and where each came from (for the user).
+struct PlanConditions {
+  double pa_mm_s2 = 0, aa_mm_s2 = 0, dwell_s = 0, smoothing_s = 0;
+  std::string acceleration_source, timing_source;
+};
+
+/// Resolves the conditions to plan with (docs/planner.md, "Training conditions"): PA and AA as
+/// given, else the highest each model was trained at (every model must contain it); the
+/// controller timing of the named machine, else the models' (which must agree within 10 ms).
+/// A model's recorded condition that contradicts a given value (PA outside its range, a dwell
+/// or smoothing more than 10 ms off) is a ConfigError: the model's errors hold at its
+/// conditions only. So is a condition no model records and nothing gives ("model … does not
+/// record …: give --trained-pa").
+PlanConditions resolve_conditions(const std::vector<const io::TrainingConditions*>& models,
+                                  const std::vector<std::string>& model_ids,
+                                  const GivenConditions& given);
+
 }  // namespace cmmcomp::planning

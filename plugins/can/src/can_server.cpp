@@ -98,6 +98,7 @@ bool CanServerOptions::is_valid(std::string* why) const {
 CanServer::CanServer(const compensation::MoveCompensator& compensator,
                      const CanServerOptions& options)
     : options_(options), handler_(compensator, options.base_id, options.part_timeout) {
+  handler_.set_outcome_log(options.outcome_log);
   std::string why;
   if (!options_.is_valid(&why)) throw ConfigError("CAN server options: " + why);
   socket_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);

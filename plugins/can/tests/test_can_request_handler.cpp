@@ -266,7 +266,7 @@ TEST(CanRequestHandlerInterval, WantIntervalAddsPart3WithTheCompensatorsU95) {
   ASSERT_EQ(cmmcomp::test::publish_example(comp), Status::kOk);
   CanRequestHandler handler(comp, kBase, std::chrono::milliseconds(50));
   compensation::MoveRequest m = cmmcomp::test::example_move();
-  m.pv_mm_s = 120.0;  // outside the training range of PV (5-80 mm/s): the interval grows
+  m.pv_mm_s = 84.0;  // outside the training range of PV (5-80 mm/s), not far: the interval grows
   m.sequence = 11;
   RequestFrames v1;
   ASSERT_EQ(encode_request(m, kBase, v1), Status::kOk);
@@ -320,11 +320,11 @@ TEST(CanRequestHandlerInterval, HugeU95SaturatesWithTheFlag) {
   compensation::IntervalCalibration cal;
   cal.coverage = 0.95;
   cal.half_width = {1.0, 1.0, 1.0, 0.5};
-  cal.extrapolation_gain = {1000.0, 0.0, 0.0, 0.0};
+  cal.extrapolation_gain = {2000.0, 0.0, 0.0, 0.0};
   ASSERT_EQ(comp.publish(0, cmmcomp::test::example_model(), cal, 7), Status::kOk);
   CanRequestHandler handler(comp, kBase, std::chrono::milliseconds(50));
   compensation::MoveRequest m = cmmcomp::test::example_move();
-  m.pv_mm_s = 200.0;  // 1.6 ranges above PV's range: U95 of MPE = 1 · (1 + 1000 · 1.6) µm
+  m.pv_mm_s = 87.0;  // 7/75 of a range above PV's: U95 of MPE = 1 · (1 + 2000 · 0.093) µm
   const std::vector<Frame> got = answer(handler, interval_request(m), 0);
   ASSERT_EQ(got.size(), 4u);
   DecodedResponse d;
@@ -337,6 +337,44 @@ TEST(CanRequestHandlerInterval, HugeU95SaturatesWithTheFlag) {
   EXPECT_NEAR(d.correction.u95_um[3], 0.5, 1e-9);
   EXPECT_EQ(handler.counters().answered, 1u);
   EXPECT_EQ(handler.counters().out_of_range, 0u);
+  EXPECT_EQ(handler.counters().outside_domain, 1u);
+}
+
+// A move far outside the model's domain is refused under every policy (docs/compensator.md,
+// "Domain"): a reject frame with reason OUTSIDE_DOMAIN, counted, and pushed to the outcome log
+// with the move; an outside-domain answer is pushed too.
+TEST(CanRequestHandlerDomain, FarOutsideIsRefusedCountedAndLogged) {
+  compensation::MoveCompensator comp;
+  ASSERT_EQ(cmmcomp::test::publish_example(comp), Status::kOk);
+  compensation::ServerOutcomeLog log;
+  CanRequestHandler handler(comp, kBase, std::chrono::milliseconds(50));
+  handler.set_outcome_log(&log);
+  compensation::MoveRequest m = cmmcomp::test::example_move();
+  m.pv_mm_s = 1000.0;
+  m.sequence = 5;
+  RequestFrames v1;
+  ASSERT_EQ(encode_request(m, kBase, v1), Status::kOk);
+  const std::vector<Frame> got = answer(handler, v1, 0);
+  ASSERT_EQ(got.size(), 1u);
+  RejectInfo r;
+  ASSERT_TRUE(decode_reject(got[0], kBase, r));
+  EXPECT_EQ(r.reason, RejectReason::kOutsideDomain);
+  EXPECT_EQ(r.status, static_cast<std::int16_t>(Status::kOutsideDomainRejected));
+  m.pv_mm_s = 84.0;
+  m.sequence = 6;
+  ASSERT_EQ(encode_request(m, kBase, v1), Status::kOk);
+  EXPECT_EQ(answer(handler, v1, 10).size(), kResponseParts);
+  const CanCounters c = handler.counters();
+  EXPECT_EQ(c.refused, 1u);
+  EXPECT_EQ(c.outside_domain, 1u);
+  compensation::OutcomeEvent e;
+  ASSERT_TRUE(log.pop(e));
+  EXPECT_EQ(e.status, Status::kOutsideDomainRejected);
+  EXPECT_NEAR(e.move.pv_mm_s, 1000.0, 0.1);
+  EXPECT_EQ(e.move.sequence, 5u);
+  ASSERT_TRUE(log.pop(e));
+  EXPECT_EQ(e.status, Status::kOutsideDomain);
+  EXPECT_FALSE(log.pop(e));
 }
 
 // Bits 61-63 of part 0 (and 60-63 of part 2) are still reserved: reason 8, with or without

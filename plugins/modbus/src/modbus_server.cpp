@@ -169,6 +169,7 @@ struct ModbusServer::Impl {
             compensator,
             static_cast<std::uint8_t>(opts.unit_id),
             ep.kind == ModbusEndpoint::Kind::kTcp ? ModbusTransport::kTcp : ModbusTransport::kRtu) {
+    handler.set_outcome_log(opts.outcome_log);
     mapping.tab_registers = handler.holding().data();
     mapping.nb_registers = modbus::kHoldingCount;
     mapping.tab_input_registers = handler.input().data();

@@ -194,12 +194,30 @@ TEST_F(ModbusRequestHandlerTest, NoModelIsAStatusNotAnException) {
 
 TEST_F(ModbusRequestHandlerTest, OutsideDomainIsFlagged) {
   compensation::MoveRequest m = test::example_request();
-  m.pv_mm_s = 500.0;  // training range 5 .. 80: clamped
+  m.pv_mm_s = 84.0;  // training range 5 .. 80: clamped (not far outside: within 7.5)
+  compensation::ServerOutcomeLog log;
+  handler_.set_outcome_log(&log);
   EXPECT_EQ(send(pdu_write(0, request_regs(m))).kind, Kind::kReply);
   const map::Result r = map::decode_result(handler_.input());
   EXPECT_EQ(r.status, static_cast<std::int16_t>(Status::kOutsideDomain));
   EXPECT_EQ(r.flags, compensation::kFlagOk | compensation::kFlagOutsideDomain);
   EXPECT_EQ(r.mpe_um, 12.0);  // x̂ clamped to 1
+  // Far outside: refused under every policy (docs/compensator.md, "Domain"), status in the block.
+  m.pv_mm_s = 500.0;
+  m.sequence = 2;
+  EXPECT_EQ(send(pdu_write(0, request_regs(m))).kind, Kind::kReply);
+  const map::Result far = map::decode_result(handler_.input());
+  EXPECT_EQ(far.status, static_cast<std::int16_t>(Status::kOutsideDomainRejected));
+  EXPECT_EQ(far.flags & compensation::kFlagOk, 0u);
+  EXPECT_EQ(handler_.counters().outside_domain, 1u);
+  EXPECT_EQ(handler_.counters().refused, 1u);
+  compensation::OutcomeEvent e;
+  ASSERT_TRUE(log.pop(e));
+  EXPECT_EQ(e.status, Status::kOutsideDomain);
+  ASSERT_TRUE(log.pop(e));
+  EXPECT_EQ(e.status, Status::kOutsideDomainRejected);
+  EXPECT_EQ(e.move.pv_mm_s, 500.0);
+  EXPECT_FALSE(log.pop(e));
 }
 
 TEST_F(ModbusRequestHandlerTest, ReadWriteMultipleWritesThenReadsTheResultCopy) {

@@ -81,7 +81,7 @@ TEST(RecordingsDoc, TranscriptExampleHasTheDocumentedForm) {
   EXPECT_EQ(r.sequence, 1u);
   EXPECT_NEAR(r.rae_um, -4.773, 5e-4);
   EXPECT_NEAR(r.correction_um[0], 4.773, 5e-4);
-  EXPECT_EQ(r.model_id, 0x20a777f9b3944044ull);
+  EXPECT_EQ(r.model_id, 0x2a3dd67687400fa5ull);
   EXPECT_EQ(r.interval_flags, compensation::kFlagOk);
   EXPECT_NEAR(r.u95_um[0], 2.735, 5e-4);
   EXPECT_NEAR(r.u95_um[1], 1.858, 5e-4);
@@ -118,7 +118,7 @@ TEST(RecordingsDoc, CandumpExampleHasTheDocumentedFormAndDecodes) {
   EXPECT_NEAR(d.correction.mpe_um, 21.58, 1e-9);
   EXPECT_NEAR(d.correction.rae_um, -4.77, 1e-9);
   EXPECT_NEAR(d.correction.correction_um[0], 4.77, 1e-9);
-  EXPECT_EQ(d.correction.model_id, 0xB3944044u);
+  EXPECT_EQ(d.correction.model_id, 0x87400FA5u);
   EXPECT_EQ(d.interval_flags, 0);
   EXPECT_NEAR(d.correction.u95_um[0], 2.74, 1e-9);
   EXPECT_NEAR(d.correction.u95_um[1], 1.86, 1e-9);

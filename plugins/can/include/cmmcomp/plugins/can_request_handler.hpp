@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/compensation/outcome_log.hpp>
 #include <cmmcomp/plugins/can_protocol.hpp>
 #include <cmmcomp/status.hpp>
 #include <cstddef>
@@ -36,9 +37,12 @@ struct CanCounters {
   std::uint64_t incomplete = 0;    ///< requests abandoned because a new request started
   std::uint64_t out_of_range = 0;  ///< requests with a field, or results, outside their range
   std::uint64_t refused = 0;       ///< requests the compensator refused (invalid, no model, domain)
-  std::uint64_t heartbeats = 0;    ///< heartbeats sent (five frames each)
-  std::uint64_t send_errors = 0;   ///< frames the socket did not take
-  std::uint64_t ignored = 0;       ///< frames with other identifiers (0 while the filter works)
+  /// requests answered OK but flagged outside the model's domain (an input, PA or AA outside
+  /// its training conditions: docs/compensator.md, "Domain")
+  std::uint64_t outside_domain = 0;
+  std::uint64_t heartbeats = 0;   ///< heartbeats sent (five frames each)
+  std::uint64_t send_errors = 0;  ///< frames the socket did not take
+  std::uint64_t ignored = 0;      ///< frames with other identifiers (0 while the filter works)
 };
 
 /// The frames one call produces: at most two rejects (a timeout, then the frame's own), or the
@@ -66,6 +70,10 @@ class CanRequestHandler {
                     std::uint32_t base_id,
                     std::chrono::nanoseconds part_timeout) noexcept
       : compensator_(compensator), base_id_(base_id), part_timeout_ns_(part_timeout.count()) {}
+
+  /// Every refused request and every outside-domain answer is pushed to `log` (may be null:
+  /// none), which must outlive the handler. Setup only, before the first frame.
+  void set_outcome_log(compensation::ServerOutcomeLog* log) noexcept { outcome_log_ = log; }
 
   /// Handles one received frame at time `now_ns` (any monotonic clock, ns) and appends the
   /// frames to send to `out`. Frames with another identifier are counted as ignored. RT-safe:
@@ -151,6 +159,7 @@ class CanRequestHandler {
     c.incomplete = counters_.incomplete.load(std::memory_order_relaxed);
     c.out_of_range = counters_.out_of_range.load(std::memory_order_relaxed);
     c.refused = counters_.refused.load(std::memory_order_relaxed);
+    c.outside_domain = counters_.outside_domain.load(std::memory_order_relaxed);
     c.heartbeats = counters_.heartbeats.load(std::memory_order_relaxed);
     c.send_errors = counters_.send_errors.load(std::memory_order_relaxed);
     c.ignored = counters_.ignored.load(std::memory_order_relaxed);
@@ -182,8 +191,8 @@ class CanRequestHandler {
  private:
   struct AtomicCounters {
     std::atomic<std::uint64_t> frames_in{0}, requests{0}, answered{0}, intervals{0}, rejected{0},
-        malformed{0}, timeouts{0}, incomplete{0}, out_of_range{0}, refused{0}, heartbeats{0},
-        send_errors{0}, ignored{0};
+        malformed{0}, timeouts{0}, incomplete{0}, out_of_range{0}, refused{0}, outside_domain{0},
+        heartbeats{0}, send_errors{0}, ignored{0};
   };
 
   // One writer thread: a load and a store are enough, and cheaper than a locked add.
@@ -243,6 +252,8 @@ class CanRequestHandler {
     }
     compensation::Correction c;
     const Status s = compensator_.before_approach(move, c);
+    if (outcome_log_ != nullptr && compensation::worth_logging(s)) outcome_log_->push({move, s});
+    if (s == Status::kOutsideDomain) bump(counters_.outside_domain);
     if (!ok(s)) {
       bump(counters_.refused);
       const can::RejectReason reason = s == Status::kNoModel ? can::RejectReason::kNoModel
@@ -275,6 +286,7 @@ class CanRequestHandler {
   }
 
   const compensation::MoveCompensator& compensator_;
+  compensation::ServerOutcomeLog* outcome_log_ = nullptr;
   std::uint32_t base_id_;
   std::int64_t part_timeout_ns_;
   bool assembling_ = false;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/compensation/outcome_log.hpp>
 #include <cmmcomp/plugins/can_protocol.hpp>
 #include <cmmcomp/plugins/can_request_handler.hpp>
 #include <cstdint>
@@ -40,6 +41,9 @@ struct CanServerOptions {
   /// switch). The interface must have the CAN FD MTU (72). The payload layout is the classic
   /// one either way; a frame longer than 8 bytes is rejected (reason 1, wrong DLC).
   bool fd = false;
+  /// Where the handler reports every refused request and outside-domain answer (null: nowhere);
+  /// it must outlive the server. cmmcomp-agent logs them, rate-limited.
+  compensation::ServerOutcomeLog* outcome_log = nullptr;
 
   /// True when every field is usable; otherwise false and, if `why` is given, the reason.
   bool is_valid(std::string* why = nullptr) const;

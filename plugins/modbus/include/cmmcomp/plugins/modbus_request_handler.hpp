@@ -14,6 +14,7 @@
 
 #include <atomic>
 #include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/compensation/outcome_log.hpp>
 #include <cmmcomp/plugins/modbus_register_map.hpp>
 #include <cmmcomp/status.hpp>
 #include <cstddef>
@@ -23,16 +24,18 @@ namespace cmmcomp::plugins {
 
 /// What the server does counted since it started (ModbusServer::counters()).
 struct ModbusCounters {
-  std::uint64_t requests = 0;             ///< request frames addressed to this server
-  std::uint64_t answered = 0;             ///< normal (non-exception) replies decided
-  std::uint64_t rejected = 0;             ///< requests refused for a bad value (exception 03)
-  std::uint64_t exceptions = 0;           ///< exception replies of any code (01, 02, 03, 0B)
-  std::uint64_t computations = 0;         ///< triggering writes that produced a result
-  std::uint64_t clients_connected = 0;    ///< TCP connections accepted (RTU: 0)
-  std::uint64_t clients_active = 0;       ///< TCP connections open now
-  std::uint64_t clients_refused = 0;      ///< TCP connections closed at once: max_tcp_clients open
-  std::uint64_t receive_errors = 0;       ///< frames lost: bad CRC or MBAP header, truncated,
-                                          ///< timed out, peer gone mid-frame
+  std::uint64_t requests = 0;      ///< request frames addressed to this server
+  std::uint64_t answered = 0;      ///< normal (non-exception) replies decided
+  std::uint64_t rejected = 0;      ///< requests refused for a bad value (exception 03)
+  std::uint64_t exceptions = 0;    ///< exception replies of any code (01, 02, 03, 0B)
+  std::uint64_t computations = 0;  ///< triggering writes that produced a result
+  std::uint64_t refused = 0;  ///< of those, results the compensator refused (status in the block)
+  std::uint64_t outside_domain = 0;     ///< of those, OK results flagged outside the model's domain
+  std::uint64_t clients_connected = 0;  ///< TCP connections accepted (RTU: 0)
+  std::uint64_t clients_active = 0;     ///< TCP connections open now
+  std::uint64_t clients_refused = 0;    ///< TCP connections closed at once: max_tcp_clients open
+  std::uint64_t receive_errors = 0;     ///< frames lost: bad CRC or MBAP header, truncated,
+                                        ///< timed out, peer gone mid-frame
   std::uint64_t clients_idle_closed = 0;  ///< TCP connections closed after idle_timeout_ms
   std::uint64_t clients_evicted = 0;      ///< TCP connections closed for a new one (evict_idle_ms)
 };
@@ -85,6 +88,10 @@ class ModbusRequestHandler {
     input_.fill(0);
     input_[modbus::kProtocolVersionReg] = modbus::kProtocolVersion;
   }
+  /// Every refused request and every outside-domain answer is pushed to `log` (may be null:
+  /// none), which must outlive the handler. Setup only, before the first request.
+  void set_outcome_log(compensation::ServerOutcomeLog* log) noexcept { outcome_log_ = log; }
+
   ModbusRequestHandler(const ModbusRequestHandler&) = delete;
   ModbusRequestHandler& operator=(const ModbusRequestHandler&) = delete;
 
@@ -185,6 +192,8 @@ class ModbusRequestHandler {
     ModbusCounters c;
     c.requests = requests_.load(std::memory_order_relaxed);
     c.answered = answered_.load(std::memory_order_relaxed);
+    c.refused = refused_.load(std::memory_order_relaxed);
+    c.outside_domain = outside_domain_.load(std::memory_order_relaxed);
     c.rejected = rejected_.load(std::memory_order_relaxed);
     c.exceptions = exceptions_.load(std::memory_order_relaxed);
     c.computations = computations_.load(std::memory_order_relaxed);
@@ -252,6 +261,11 @@ class ModbusRequestHandler {
     }
     compensation::Correction correction;
     const Status status = compensator_.before_approach(request, correction);
+    if (outcome_log_ != nullptr && compensation::worth_logging(status)) {
+      outcome_log_->push({request, status});
+    }
+    if (!ok(status)) bump(refused_);
+    if (status == Status::kOutsideDomain) bump(outside_domain_);
     // Staging: the result block is built completely, then replaces the served one in one copy.
     modbus::InputRegisters staged = input_;
     modbus::encode_result(
@@ -294,6 +308,7 @@ class ModbusRequestHandler {
   }
 
   const compensation::MoveCompensator& compensator_;
+  compensation::ServerOutcomeLog* outcome_log_ = nullptr;
   std::uint8_t unit_id_;
   ModbusTransport transport_;
   modbus::HoldingRegisters holding_{};
@@ -303,6 +318,8 @@ class ModbusRequestHandler {
   Counter rejected_{0};
   Counter exceptions_{0};
   Counter computations_{0};
+  Counter refused_{0};
+  Counter outside_domain_{0};
   Counter clients_connected_{0};
   Counter clients_active_{0};
   Counter clients_refused_{0};

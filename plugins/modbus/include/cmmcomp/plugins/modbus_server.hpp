@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cmmcomp/compensation/move_compensator.hpp>
+#include <cmmcomp/compensation/outcome_log.hpp>
 #include <cmmcomp/plugins/modbus_request_handler.hpp>
 #include <cstdint>
 #include <memory>
@@ -60,6 +61,9 @@ struct ModbusServerOptions {
   /// Longest the server waits for I/O before looking at the stop flag and the timeouts again
   /// [ms] (the timeouts above are kept to within this).
   int poll_interval_ms = 50;
+  /// Where the handler reports every refused request and outside-domain answer (null: nowhere);
+  /// it must outlive the server. cmmcomp-agent logs them, rate-limited.
+  compensation::ServerOutcomeLog* outcome_log = nullptr;
 
   /// True when every field is usable; otherwise false and, if `why` is given, the reason.
   bool is_valid(std::string* why = nullptr) const;
