@@ -112,8 +112,10 @@ CMMCOMP_CAPI_EXPORT const char* cmmcomp_version(void);
 CMMCOMP_CAPI_EXPORT unsigned cmmcomp_abi_version(void);
 
 /** Creates a compensator from a model file. Setup only (allocates, reads the file).
- * Returns 0 and sets *out, or CMMCOMP_E_ARGUMENT, CMMCOMP_E_IO, CMMCOMP_E_MODEL,
- * CMMCOMP_E_NO_MEMORY, CMMCOMP_E_INTERNAL (*out untouched). */
+ * Returns 0 and sets *out, or CMMCOMP_E_ARGUMENT, CMMCOMP_E_IO, CMMCOMP_E_MODEL (also for a
+ * model whose interval is calibrated at another coverage than the 95 % that every U95 of this
+ * ABI states), CMMCOMP_E_NO_MEMORY, CMMCOMP_E_INTERNAL (*out untouched). The model's training
+ * conditions (PA and AA) are published with it (docs/compensator.md, "Domain"). */
 CMMCOMP_CAPI_EXPORT int cmmcomp_create_from_file(const char* path, cmmcomp_compensator** out);
 /** As cmmcomp_create_from_file, from `size` bytes of model JSON (size <=
  * CMMCOMP_MAX_MODEL_BYTES; the text need not be 0-terminated). */

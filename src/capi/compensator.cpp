@@ -47,7 +47,10 @@ int read_file(const char* path, std::string& text) {
 int publish_text(cm::MoveCompensator& comp, const std::string& text, const std::string& source) {
   const auto file = cmmcomp::io::parse_compensation_model(text, source);
   for (int axis = 0; axis < cm::kMaxAxes; ++axis) {
-    if (cmmcomp::io::publish(comp, axis, file) != cmmcomp::Status::kOk) return CMMCOMP_E_INTERNAL;
+    const cmmcomp::Status s = cmmcomp::io::publish(comp, axis, file);
+    // kInvalidInput: the file is valid but not servable (an interval at another coverage).
+    if (s == cmmcomp::Status::kInvalidInput) return CMMCOMP_E_MODEL;
+    if (s != cmmcomp::Status::kOk) return CMMCOMP_E_INTERNAL;
   }
   return CMMCOMP_OK;
 }

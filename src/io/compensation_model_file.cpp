@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file Loads a model file of any served input set for the compensator (names and units
 /// checked against the schema) and publishes it to an axis.
+#include <fmt/format.h>
+
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cstdlib>
@@ -110,6 +112,26 @@ Status publish(compensation::MoveCompensator& compensator,
                int axis,
                const CompensationModelFile& file,
                std::string* why) {
+  const double coverage = std::visit([](const auto& f) { return f.interval.coverage; }, file);
+  if (coverage != 0.0 && coverage != kServedCoverage) {
+    if (why != nullptr) {
+      *why = fmt::format(
+          "the model's interval is calibrated at {:g} % coverage, but every interface of the "
+          "compensator reports U95, the half-width at {:g} % (Correction::u95_um, the C ABI, "
+          "Modbus, CAN): retrain it with cmmcomp-train fit --interval-coverage {:g}",
+          100.0 * coverage,
+          100.0 * kServedCoverage,
+          kServedCoverage);
+    }
+    return Status::kInvalidInput;
+  }
+  return publish_at_its_coverage(compensator, axis, file, why);
+}
+
+Status publish_at_its_coverage(compensation::MoveCompensator& compensator,
+                               int axis,
+                               const CompensationModelFile& file,
+                               std::string* why) {
   const std::uint64_t id = numeric_model_id(file);
   return std::visit(
       [&](const auto& f) {

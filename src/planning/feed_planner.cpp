@@ -280,7 +280,7 @@ FeedPlanner::FeedPlanner(const std::vector<ModelAtY>& models, PlanProblem proble
   for (const ModelAtY& m : models) {
     auto compensator = std::make_unique<compensation::MoveCompensator>();
     std::string why;
-    if (!ok(io::publish(*compensator, 0, m.model, &why))) {
+    if (!ok(io::publish_at_its_coverage(*compensator, 0, m.model, &why))) {
       throw ConfigError("planner: " + which(m) + " cannot be served: " + why);
     }
     compensators_.push_back(std::move(compensator));

@@ -60,6 +60,20 @@ TEST(CompensationModelFile, ParsesEveryServedInputSet) {
   EXPECT_EQ(comp.model_id(2), numeric_model_id(five));
 }
 
+/// A move of the shipped model's training box (AV 12, AD 10 mm, PA 200, AA 60 mm/s², Y 250).
+compensation::MoveRequest move_in_the_box(double pv_mm_s, double pd_mm) {
+  compensation::MoveRequest m;
+  m.direction = {1.0, 0.0, 0.0};
+  m.pv_mm_s = pv_mm_s;
+  m.pa_mm_s2 = 200.0;
+  m.pd_mm = pd_mm;
+  m.av_mm_s = 12.0;
+  m.aa_mm_s2 = 60.0;
+  m.ad_mm = 10.0;
+  m.y_mm = 250.0;
+  return m;
+}
+
 // The shipped model carries its interval calibration, and publishing the file carries it into
 // every Correction (docs/uncertainty.md).
 TEST(CompensationModelFile, TheShippedModelPublishesItsInterval) {
@@ -69,16 +83,7 @@ TEST(CompensationModelFile, TheShippedModelPublishesItsInterval) {
   const auto any = parse_compensation_model(format_model_json(f), "d.json");
   compensation::MoveCompensator comp;
   ASSERT_EQ(publish(comp, 0, any), Status::kOk);
-  compensation::MoveRequest m;
-  m.axis = 0;
-  m.direction = {1.0, 0.0, 0.0};
-  m.pv_mm_s = 40.0;
-  m.pa_mm_s2 = 200.0;
-  m.pd_mm = 40.0;
-  m.av_mm_s = 12.0;
-  m.aa_mm_s2 = 60.0;
-  m.ad_mm = 10.0;
-  m.y_mm = 250.0;
+  const compensation::MoveRequest m = move_in_the_box(40.0, 40.0);
   compensation::Correction c;
   ASSERT_EQ(comp.before_approach(m, c), Status::kOk);
   EXPECT_EQ(c.flags & compensation::kFlagNoUncertainty, 0u);
@@ -114,14 +119,7 @@ TEST(CompensationModelFile, TheShippedModelPublishesItsConditions) {
   EXPECT_EQ(training_conditions(any), f.conditions);
   compensation::MoveCompensator comp;
   ASSERT_EQ(publish(comp, 0, any), Status::kOk);
-  compensation::MoveRequest m;
-  m.direction = {-1.0, 0.0, 0.0};
-  m.pv_mm_s = 70.0;
-  m.pa_mm_s2 = 200.0;
-  m.pd_mm = 60.0;
-  m.av_mm_s = 12.0;
-  m.aa_mm_s2 = 60.0;
-  m.ad_mm = 10.0;
+  compensation::MoveRequest m = move_in_the_box(70.0, 60.0);
   compensation::Correction c;
   EXPECT_EQ(comp.before_approach(m, c), Status::kOk);
   m.pa_mm_s2 = 210.0;
@@ -134,6 +132,26 @@ TEST(CompensationModelFile, TheShippedModelPublishesItsConditions) {
   ASSERT_EQ(publish(comp, 0, parse_compensation_model(format_model_json(old), "o.json")),
             Status::kOk);
   EXPECT_EQ(comp.before_approach(m, c), Status::kOk);
+}
+
+// Every interface reports U95: a file calibrated at another coverage is not served (issue 36
+// §7: the protocols used to label a 50 % half-width U95).
+TEST(CompensationModelFile, AnIntervalAtAnotherCoverageIsNotServed) {
+  ModelFileOf<PaperInputs> half = default_model_file();
+  half.interval.coverage = 0.5;
+  compensation::MoveCompensator comp;
+  std::string why;
+  EXPECT_EQ(publish(comp, 0, parse_compensation_model(format_model_json(half), "h.json"), &why),
+            Status::kInvalidInput);
+  EXPECT_NE(why.find("calibrated at 50 % coverage, but every interface of the compensator reports "
+                     "U95"),
+            std::string::npos)
+      << why;
+  EXPECT_FALSE(comp.has_model(0));
+  ModelFileOf<PaperInputs> none = default_model_file();
+  none.interval = {};  // no calibration: served, flagged NO_UNCERTAINTY
+  EXPECT_EQ(publish(comp, 0, parse_compensation_model(format_model_json(none), "n.json")),
+            Status::kOk);
 }
 
 TEST(CompensationModelFile, RefusesNamesTheCompensatorDoesNotFeed) {

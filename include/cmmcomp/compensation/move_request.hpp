@@ -82,8 +82,10 @@ struct Correction {
   std::array<double, 3> correction_um{0.0, 0.0, 0.0};
   /// Half-width of the prediction interval of each predicted error [µm], in schema.hpp's
   /// kErrors order (MPE, RPE, MAE, RAE): the measured error lies within predicted ± u95 with the
-  /// model's calibrated coverage (95 % for every model cmmcomp-train writes). It grows with the
-  /// move's distance outside the training ranges, whatever the domain policy. 0 with
+  /// model's calibrated coverage: 95 % for every model a file loads (io::publish, and every
+  /// interface over it, refuses a file calibrated at another coverage); a caller that publishes
+  /// an IntervalCalibration itself has its coverage in IntervalCalibration::coverage. It grows with
+  /// the move's distance outside the training ranges, whatever the domain policy. 0 with
   /// kFlagNoUncertainty when the model has no calibration. docs/uncertainty.md.
   std::array<double, 4> u95_um{0.0, 0.0, 0.0, 0.0};
   std::uint32_t flags = 0;     ///< CorrectionFlag bits

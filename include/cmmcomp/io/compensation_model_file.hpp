@@ -119,13 +119,26 @@ compensation::Conditions compensation_conditions(const TrainingConditions& condi
 /// The file's training conditions (all unknown for a format-3 or older file).
 const TrainingConditions& training_conditions(const CompensationModelFile& file);
 
+/// The coverage of the interval every interface of the compensator reports (its half-widths
+/// are U95: Correction::u95_um, the C ABI's cmmcomp_interval, Modbus, CAN).
+inline constexpr double kServedCoverage = 0.95;
+
 /// Publishes the file's network, its interval calibration (none for a format-1 file) and its
 /// training conditions (compensation_conditions) into `axis` of `compensator` with
-/// numeric_model_id(file).
+/// numeric_model_id(file). A file whose interval is calibrated at another coverage than
+/// kServedCoverage is refused (kInvalidInput, `why` says so): its half-widths are not U95.
 /// Returns what MoveCompensator::publish returns.
 Status publish(compensation::MoveCompensator& compensator,
                int axis,
                const CompensationModelFile& file,
                std::string* why = nullptr);
+
+/// As publish, at whatever coverage the file's interval was calibrated: for a consumer in the
+/// same process that reads the coverage from the file and states it (the feed planner), never
+/// for an interface that labels the half-widths U95.
+Status publish_at_its_coverage(compensation::MoveCompensator& compensator,
+                               int axis,
+                               const CompensationModelFile& file,
+                               std::string* why = nullptr);
 
 }  // namespace cmmcomp::io

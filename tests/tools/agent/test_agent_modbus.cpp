@@ -146,6 +146,36 @@ TEST(Agent, ServesTheShippedDefaultModelAndSaysItIsSimulated) {
       << agent.process->output();
 }
 
+// Issue 36: the shipped model (trained at PA 200) answered a move at PA 1200 as plain OK, and
+// nothing was logged. Now: refused, flagged, logged with the move, and counted.
+TEST(Agent, RefusesAndLogsMovesOutsideTheModelsConditions) {
+  RunningAgent agent = start_agent({});
+  ASSERT_TRUE(agent.process);
+  Client c = connect(agent.port);
+  compensation::MoveRequest far = probing_move(51);
+  far.pa_mm_s2 = 1200;
+  EXPECT_EQ(ask(c.get(), far).status, static_cast<std::int16_t>(Status::kOutsideDomainRejected));
+  compensation::MoveRequest near = probing_move(52);
+  near.pa_mm_s2 = 210;
+  const map::Result flagged = ask(c.get(), near);
+  EXPECT_EQ(flagged.status, static_cast<std::int16_t>(Status::kOutsideDomain));
+  EXPECT_NE(flagged.flags & compensation::kFlagOutsideDomain, 0u);
+  EXPECT_TRUE(agent.process->wait_for_output("sequence 52 axis 0", 5s)) << agent.process->output();
+  const std::string& text = agent.process->output();
+  EXPECT_NE(text.find("sequence 51 axis 0: PV 70 mm/s, PD 55 mm, AV 12 mm/s, AD 9 mm, PA 1200 "
+                      "mm/s²"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("refused: outside the model's domain"), std::string::npos) << text;
+  EXPECT_NE(text.find("answered OUTSIDE the model's domain"), std::string::npos) << text;
+  agent.process->signal(SIGTERM);
+  EXPECT_EQ(agent.process->wait_exit(5s), 0) << agent.process->output();
+  EXPECT_NE(agent.process->output().find(
+                "2 computations (1 refused by the compensator, 1 outside the model's domain)"),
+            std::string::npos)
+      << agent.process->output();
+}
+
 TEST(Agent, SighupReloadsAndABadFileKeepsTheOldModelServing) {
   auto a = io::default_model_file();
   auto b = a;
