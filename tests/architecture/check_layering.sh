@@ -37,6 +37,7 @@ layer_of() {
     include/cmmcomp/training/* | src/training/* | cmmcomp/training/*) echo training ;;
     include/cmmcomp/measure/* | src/measure/* | cmmcomp/measure/*) echo measure ;;
     include/cmmcomp/planning/* | src/planning/* | cmmcomp/planning/*) echo planning ;;
+    include/cmmcomp/study/* | src/study/* | cmmcomp/study/*) echo study ;;
     src/capi/*) echo capi ;;
     plugins/*/include/* | plugins/*/src/* | cmmcomp/plugins/*) echo plugins ;;
     tools/serving/*) echo serving ;;
@@ -54,6 +55,7 @@ allowed() {
     training) echo "core io twin training" ;;
     measure) echo "core io twin measure" ;;
     planning) echo "core io planning" ;;
+    study) echo "core io twin training measure planning study" ;;
     capi) echo "core io" ;;
     plugins) echo "core plugins" ;;
     serving) echo "core io plugins serving" ;;

@@ -316,39 +316,19 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
              bool check) {
   constexpr int kInputs = Inputs::kCount;
   const auto rows = cmmcomp::io::read_dataset_csv(data);
-  const auto samples = cmmcomp::training::samples<Inputs>(rows);
-  const std::size_t n = rows.size();
-  cmmcomp::training::TestSetPredictions p;
-  std::size_t outside = 0;
-  // Coverage of the prediction interval: |measured − predicted| <= U (docs/uncertainty.md).
-  std::array<std::size_t, 4> covered{};
-  std::array<double, 4> u_sum{};
-  for (std::size_t i = 0; i < n; ++i) {
-    std::array<double, 4> y{};
-    const cmmcomp::Status st = cmmcomp::fuzzy::evaluate(
-        file.model, samples.inputs[i], y, cmmcomp::fuzzy::DomainPolicy::kClamp);
-    if (!cmmcomp::ok(st)) {
-      throw cmmcomp::Error(fmt::format(
-          "{}: row {}: the model cannot evaluate it ({})", data, i + 1, cmmcomp::to_string(st)));
-    }
-    if (st == cmmcomp::Status::kOutsideDomain) ++outside;
-    std::array<double, 4> u{};
-    cmmcomp::fuzzy::interval_half_widths_at(file.interval, file.model.ranges, samples.inputs[i], u);
-    for (std::size_t o = 0; o < 4; ++o) {
-      p.measured[o].push_back(samples.targets[i][o]);
-      p.predicted[o].push_back(y[o]);
-      p.half_width[o].push_back(u[o]);
-      covered[o] += std::abs(samples.targets[i][o] - y[o]) <= u[o] ? 1 : 0;
-      u_sum[o] += u[o];
-    }
-  }
+  const cmmcomp::training::TestSetEvaluation e =
+      cmmcomp::training::evaluate_test_set<Inputs>(file.model, file.interval, rows, data);
+  const cmmcomp::training::TestSetPredictions& p = e.predictions;
+  const std::size_t n = e.samples;
+  const std::size_t outside = e.outside;
   const bool has_interval = file.interval.available();
-  const auto coverage_pct = [&](std::size_t o) {
-    return 100.0 * static_cast<double>(covered[o]) / static_cast<double>(n);
-  };
-  const auto t = cmmcomp::training::table5(p);
-  std::array<double, 4> coverages{};
-  for (std::size_t o = 0; o < 4; ++o) coverages[o] = has_interval ? coverage_pct(o) : std::nan("");
+  const auto coverage_pct = [&](std::size_t o) { return e.coverage_pct[o]; };
+  std::array<double, 4> u_sum{};
+  for (std::size_t o = 0; o < 4; ++o) {
+    for (double u : p.half_width[o]) u_sum[o] += u;
+  }
+  const auto& t = e.table;
+  const std::array<double, 4>& coverages = e.coverage_pct;
   const cmmcomp::training::HeldOutCheck verdict =
       cmmcomp::training::held_out_check(t, coverages, 100.0 * file.interval.coverage, n);
   if (json) {

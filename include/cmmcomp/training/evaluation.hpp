@@ -8,7 +8,13 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/fuzzy/prediction_interval.hpp>
+#include <cmmcomp/fuzzy/tsk_evaluator.hpp>
 #include <cmmcomp/schema.hpp>
+#include <cmmcomp/status.hpp>
+#include <cmmcomp/training/fnn_trainer.hpp>
 #include <string>
 #include <vector>
 
@@ -76,5 +82,54 @@ Fig5Plot fig5_plot(const TestSetPredictions& p,
                    const std::string& png_path,
                    const std::string& model_id = "",
                    double coverage_pct = 0);
+
+/// A model on a test set, as cmmcomp-train eval measures it: every row evaluated under the clamp
+/// policy, the interval's half-width at the row's inputs, Table 5 and each parameter's coverage.
+struct TestSetEvaluation {
+  TestSetPredictions predictions;
+  std::array<Table5Row, kErrors.size()> table{};
+  std::size_t samples = 0;
+  std::size_t outside = 0;  ///< rows outside the training ranges (clamped)
+  /// Share of rows with |measured − predicted| <= the half-width [%]; NaN without an interval.
+  std::array<double, kErrors.size()> coverage_pct{};
+};
+
+/// Evaluates `model` (a network of the input set `Inputs`, 4 outputs) with its `interval` on
+/// `rows`. Throws Error naming `source` and the row the model cannot evaluate, ConfigError for an
+/// empty set.
+template <typename Inputs, typename Model>
+TestSetEvaluation evaluate_test_set(const Model& model,
+                                    const fuzzy::IntervalCalibration<kErrorCount>& interval,
+                                    const std::vector<DatasetRow>& rows,
+                                    const std::string& source) {
+  const auto s = samples<Inputs>(rows);
+  TestSetEvaluation e;
+  e.samples = rows.size();
+  std::array<std::size_t, kErrorCount> covered{};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    std::array<double, kErrorCount> y{};
+    const Status st = fuzzy::evaluate(model, s.inputs[i], y, fuzzy::DomainPolicy::kClamp);
+    if (!ok(st)) {
+      throw Error(source + ": row " + std::to_string(i + 1) + ": the model cannot evaluate it (" +
+                  to_string(st) + ")");
+    }
+    if (st == Status::kOutsideDomain) ++e.outside;
+    std::array<double, kErrorCount> u{};
+    fuzzy::interval_half_widths_at(interval, model.ranges, s.inputs[i], u);
+    for (std::size_t o = 0; o < kErrorCount; ++o) {
+      e.predictions.measured[o].push_back(s.targets[i][o]);
+      e.predictions.predicted[o].push_back(y[o]);
+      e.predictions.half_width[o].push_back(u[o]);
+      covered[o] += std::abs(s.targets[i][o] - y[o]) <= u[o] ? 1 : 0;
+    }
+  }
+  e.table = table5(e.predictions);
+  for (std::size_t o = 0; o < kErrorCount; ++o) {
+    e.coverage_pct[o] = interval.available() ? 100.0 * static_cast<double>(covered[o]) /
+                                                   static_cast<double>(rows.size())
+                                             : std::nan("");
+  }
+  return e;
+}
 
 }  // namespace cmmcomp::training
