@@ -9,27 +9,16 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/study/accuracy.hpp>
-#include <cmmcomp/training/fnn_trainer.hpp>
+#include <cmmcomp/study/train.hpp>
 #include <map>
 #include <set>
+#include <type_traits>
+#include <variant>
 
 #include "../training/fnn_prior.hpp"
 
 namespace cmmcomp::study {
 namespace {
-
-/// The --inputs text of `Inputs`: its labels in lower case, comma separated ("pv,pd,av,ad").
-template <typename Inputs>
-std::string inputs_text() {
-  std::string s;
-  for (const char* label : Inputs::labels()) {
-    if (!s.empty()) s += ',';
-    for (const char* c = label; *c != '\0'; ++c) {
-      s += static_cast<char>(std::tolower(static_cast<unsigned char>(*c)));
-    }
-  }
-  return s;
-}
 
 /// The (training seed, test seed) pairs the recipe runs: its cases, or its training seed (the
 /// first part's) with every test seed.
@@ -54,40 +43,37 @@ std::string label_of(const Recipe& recipe, std::uint64_t train_seed, std::uint64
   return fmt::format("{} train {} test {}", recipe.name, train_seed, test_seed);
 }
 
-template <typename Inputs>
-void fit_and_test_with(const Recipe& recipe, const RunOptions& options, AccuracyResult& out) {
-  using namespace training;
+/// One test of a trained model file on `rows`.
+training::TestSetEvaluation evaluate(const io::CompensationModelFile& file,
+                                     const std::vector<DatasetRow>& rows,
+                                     const std::string& label) {
+  return std::visit(
+      [&](const auto& f) {
+        using Inputs = typename std::decay_t<decltype(f)>::InputSet;
+        return training::evaluate_test_set<Inputs>(f.model, f.interval, rows, label);
+      },
+      file);
+}
+
+}  // namespace
+
+AccuracyResult fit_and_test(const Recipe& recipe, const RunOptions& options) {
+  AccuracyResult out;
+  out.recipe = recipe.name;
   const dynamics::Machine machine = recipe_machine(recipe);
   const auto say = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
   const auto pairs = pairs_of(recipe);
   // One network per distinct training seed.
-  std::map<std::uint64_t, FnnTrainingResult<Inputs::kCount, 3, kErrorCount>> networks;
-  std::map<std::uint64_t, std::size_t> train_samples;
+  std::map<std::uint64_t, TrainedModel> networks;
   for (const auto& [train_seed, test_seed] : pairs) {
     (void)test_seed;
     if (networks.count(train_seed) != 0) continue;
     const Recipe r = reseeded(recipe, train_seed);
     const auto rows = training_rows(r, machine, options.threads);
     say(fmt::format("{}: training on {} moves (seed {})", recipe.name, rows.size(), train_seed));
-    const auto s = samples<Inputs>(rows);
-    FnnTrainingOptions o;
-    o.seed = recipe.fit.seed;
-    if (recipe.fit.max_iterations) o.max_iterations = *recipe.fit.max_iterations;
-    if (recipe.fit.interval_folds) {
-      for (const IntervalFolds f :
-           {IntervalFolds::kRidge, IntervalFolds::kAsServed, IntervalFolds::kNarrower}) {
-        if (*recipe.fit.interval_folds == to_string(f)) o.interval_folds = f;
-      }
-    }
-    o.input_names = input_labels<Inputs>();
-    auto result = train_fnn<Inputs::kCount, 3, kErrorCount>(s.inputs, s.targets, o);
-    if (!result.summary.usable()) {
-      throw Error(recipe.source + ": the trained network is not usable: " + result.summary.message);
-    }
-    train_samples[train_seed] = rows.size();
-    networks.emplace(train_seed, std::move(result));
+    networks.emplace(train_seed, train_model(r, rows));
   }
   for (const auto& [train_seed, test_seed] : pairs) {
     DatasetPart test = recipe.test;
@@ -97,9 +83,8 @@ void fit_and_test_with(const Recipe& recipe, const RunOptions& options, Accuracy
     t.label = label_of(recipe, train_seed, test_seed);
     t.train_seed = train_seed;
     t.test_seed = test_seed;
-    t.train_samples = train_samples[train_seed];
-    const auto& net = networks.at(train_seed);
-    t.evaluation = evaluate_test_set<Inputs>(net.model, net.interval, rows, t.label);
+    t.train_samples = networks.at(train_seed).samples;
+    t.evaluation = evaluate(networks.at(train_seed).file, rows, t.label);
     say(t.label + ": tested on " + std::to_string(rows.size()) + " moves");
     for (Target& target : table5_targets(t.label + ": ",
                                          t.evaluation.table,
@@ -108,25 +93,6 @@ void fit_and_test_with(const Recipe& recipe, const RunOptions& options, Accuracy
       out.targets.push_back(std::move(target));
     }
     out.tests.push_back(std::move(t));
-  }
-}
-
-}  // namespace
-
-AccuracyResult fit_and_test(const Recipe& recipe, const RunOptions& options) {
-  AccuracyResult out;
-  out.recipe = recipe.name;
-  bool served = false;
-  for_each_input_set(ServedInputSets{}, [&](auto set) {
-    using Inputs = decltype(set);
-    if (recipe.inputs != inputs_text<Inputs>()) return;
-    served = true;
-    fit_and_test_with<Inputs>(recipe, options, out);
-  });
-  if (!served) {
-    throw ConfigError(recipe.source + ": inputs '" + recipe.inputs +
-                      "' are not an input set the compensator serves (pv,pd,av,ad or "
-                      "pv,pd,av,ad,y)");
   }
   return out;
 }

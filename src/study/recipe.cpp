@@ -86,6 +86,7 @@ Recipe parse_recipe(const std::string& text,
                "inputs",
                "levels",
                "machine",
+               "axis",
                "noise",
                "training",
                "test",
@@ -102,6 +103,8 @@ Recipe parse_recipe(const std::string& text,
   rec.inputs = r.text(doc, "inputs", rec.inputs);
   rec.levels = r.text(doc, "levels", doe::table3_levels_text());
   rec.machine = r.text(doc, "machine", rec.machine);
+  rec.axis = r.text(doc, "axis", rec.axis);
+  if (rec.axis.empty()) r.fail("axis", "must not be empty");
   if (rec.machine != "default" && !std::filesystem::path(rec.machine).is_absolute()) {
     rec.machine = (std::filesystem::path(base_dir) / rec.machine).string();
   }

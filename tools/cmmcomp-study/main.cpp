@@ -9,10 +9,12 @@
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/study/acceptance.hpp>
 #include <cmmcomp/study/accuracy.hpp>
 #include <cmmcomp/study/recipe.hpp>
+#include <cmmcomp/study/train.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -175,6 +177,28 @@ int run_dataset(const std::string& path,
   return 0;
 }
 
+int run_train(const std::string& path,
+              const std::string& output,
+              const std::string& data_out,
+              const std::string& interval_folds) {
+  const cmmcomp::study::Recipe recipe = cmmcomp::study::load_recipe(path);
+  const auto rows = cmmcomp::study::training_rows(recipe, cmmcomp::study::recipe_machine(recipe));
+  if (!data_out.empty()) cmmcomp::io::write_dataset_csv(data_out, rows);
+  cmmcomp::study::FitOverrides overrides;
+  if (!interval_folds.empty()) overrides.interval_folds = interval_folds;
+  const cmmcomp::study::TrainedModel m = cmmcomp::study::train_model(recipe, rows, overrides);
+  const std::string id =
+      std::visit([&](const auto& f) { return cmmcomp::io::save_model_file(output, f); }, m.file);
+  std::printf("trained %s on %zu moves of %s: %s\nwrote %s (model id %s)\n",
+              cmmcomp::training::to_string(m.summary.method),
+              m.samples,
+              path.c_str(),
+              m.summary.message.c_str(),
+              output.c_str(),
+              id.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -209,6 +233,14 @@ int main(int argc, char** argv) {
   CLI::Option* seed_opt =
       dataset->add_option("--seed", seed, "another seed (every training part's, or the test's)");
   dataset->add_option("-o,--output", output, "dataset CSV")->required();
+  std::string train_recipe, model_out, data_out, folds;
+  CLI::App* train = app.add_subcommand(
+      "train", "train a recipe's network as cmmcomp-train fit does, recording its conditions");
+  train->add_option("--recipe", train_recipe, "recipe file")->required()->check(CLI::ExistingFile);
+  train->add_option("-o,--output", model_out, "model file to write")->required();
+  train->add_option("--data-out", data_out, "also write the training dataset CSV here");
+  train->add_option("--interval-folds", folds, "override the recipe's (ridge, as-served, narrower)")
+      ->check(CLI::IsMember({"ridge", "as-served", "narrower"}));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -217,6 +249,7 @@ int main(int argc, char** argv) {
   try {
     if (accuracy->parsed()) return run_accuracy(recipes, known, json);
     if (cells->parsed()) return run_cell_interpolant(recipes, known, json);
+    if (train->parsed()) return run_train(train_recipe, model_out, data_out, folds);
     return run_dataset(recipe_path, part, seed, seed_opt->count() > 0, output);
   } catch (const cmmcomp::ConfigError& e) {
     std::fprintf(stderr, "cmmcomp-study: %s\n", e.what());

@@ -53,8 +53,9 @@ struct Recipe {
   std::string levels;                  ///< doe levels text ("pv=40,70,100;…"); default Table 3's
   std::string machine = "default";     ///< "default" (embedded) or a machine file
   bool noise = true;                   ///< Table 1 noise on every simulated move
-  std::vector<DatasetPart> training;   ///< joined in this order into one dataset
-  DatasetPart test;                    ///< its seed is the first of test_seeds
+  std::string axis = "x";  ///< the axis the twin's moves run along (the model records it)
+  std::vector<DatasetPart> training;  ///< joined in this order into one dataset
+  DatasetPart test;                   ///< its seed is the first of test_seeds
   std::vector<std::uint64_t> test_seeds;
   FitSettings fit;
   /// (training seed, test seed) pairs: one network per pair, every training part's seed

@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: MIT
+/// @file A recipe's network as a model file (include/cmmcomp/study/train.hpp).
+#include <fmt/format.h>
+
+#include <cctype>
+#include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/io/sha256.hpp>
+#include <cmmcomp/paper_reference.hpp>
+#include <cmmcomp/study/train.hpp>
+#include <cmmcomp/version.hpp>
+
+namespace cmmcomp::study {
+namespace {
+
+template <typename Inputs>
+std::string inputs_text() {
+  std::string s;
+  for (const char* label : Inputs::labels()) {
+    if (!s.empty()) s += ',';
+    for (const char* c = label; *c != '\0'; ++c) {
+      s += static_cast<char>(std::tolower(static_cast<unsigned char>(*c)));
+    }
+  }
+  return s;
+}
+
+template <typename Inputs>
+TrainedModel train_with(const Recipe& recipe,
+                        const std::vector<DatasetRow>& rows,
+                        const FitOverrides& overrides) {
+  using namespace training;
+  const auto s = samples<Inputs>(rows);
+  FnnTrainingOptions o;
+  o.seed = recipe.fit.seed;
+  if (recipe.fit.max_iterations) o.max_iterations = *recipe.fit.max_iterations;
+  const std::optional<std::string> folds =
+      overrides.interval_folds ? overrides.interval_folds : recipe.fit.interval_folds;
+  if (folds) {
+    bool known = false;
+    for (const IntervalFolds f :
+         {IntervalFolds::kRidge, IntervalFolds::kAsServed, IntervalFolds::kNarrower}) {
+      if (*folds == to_string(f)) {
+        o.interval_folds = f;
+        known = true;
+      }
+    }
+    if (!known) throw ConfigError("interval folds '" + *folds + "': ridge, as-served or narrower");
+  }
+  o.input_names = input_labels<Inputs>();
+  auto result = train_fnn<Inputs::kCount, 3, kErrorCount>(s.inputs, s.targets, o);
+  if (!result.summary.usable()) {
+    throw Error(recipe.source + ": the trained network is not usable: " + result.summary.message);
+  }
+  io::ModelFileOf<Inputs> file;
+  file.model = result.model;
+  file.training.data_file_sha256 = io::sha256_hex(io::format_dataset_csv(rows));
+  file.training.method = to_string(result.summary.method);
+  file.training.lambda = result.summary.lambda;
+  file.training.cv_rmse = result.summary.cv_rmse;
+  file.training.trained_at = io::utc_timestamp_now();
+  file.training.seed = recipe.fit.seed;
+  file.training.tool_version = std::string("cmmcomp-study ") + CMMCOMP_VERSION_STRING;
+  file.interval = result.interval;
+  if (result.interval.available()) {
+    std::vector<std::string> outputs;
+    for (const auto& e : kErrors) outputs.emplace_back(e.label);
+    file.interval_method = interval_method(result.summary.interval_folds, outputs);
+    file.interval_samples = result.summary.interval_samples;
+  }
+  io::TrainingConditions c = io::dataset_conditions(rows);
+  const dynamics::Machine machine = recipe_machine(recipe);
+  c.machine = machine.name;
+  c.dwell_s = machine.parameters.controller_dwell_s;
+  c.smoothing_s = machine.parameters.controller_smoothing_s;
+  c.axis = recipe.axis;
+  if (recipe.noise) c.noise_floor.assign(paper::kTable1Std.begin(), paper::kTable1Std.end());
+  file.conditions = c;
+  // Through the file's text: the checksum and id are what a saved file has.
+  TrainedModel out{io::parse_compensation_model(io::format_model_json(file), recipe.source),
+                   result.summary,
+                   rows.size()};
+  return out;
+}
+
+}  // namespace
+
+TrainedModel train_model(const Recipe& recipe,
+                         const std::vector<DatasetRow>& rows,
+                         const FitOverrides& overrides) {
+  std::optional<TrainedModel> out;
+  for_each_input_set(ServedInputSets{}, [&](auto set) {
+    using Inputs = decltype(set);
+    if (recipe.inputs == inputs_text<Inputs>()) out = train_with<Inputs>(recipe, rows, overrides);
+  });
+  if (!out) {
+    throw ConfigError(recipe.source + ": inputs '" + recipe.inputs +
+                      "' are not an input set the compensator serves (pv,pd,av,ad or "
+                      "pv,pd,av,ad,y)");
+  }
+  return std::move(*out);
+}
+
+}  // namespace cmmcomp::study
