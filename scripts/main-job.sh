@@ -9,7 +9,7 @@ out="${1:-$here/build/main-job}"
 start=$(date +%s)
 mkdir -p "$out"
 
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh main
 cmake --preset release >/dev/null
 cmake --build --preset release --target cmmcomp-sim cmmcomp-train cmmcomp-agent cmmcomp-vc \
   cmmcomp-measure cmmcomp-plan

@@ -10,7 +10,7 @@ cd "$here"
 jobs="$(nproc)"
 start=$(date +%s)
 
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh test
 
 # The format check first: it takes seconds, and a formatting slip should not wait 40 minutes of
 # builds to be reported.
