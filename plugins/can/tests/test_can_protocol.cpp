@@ -4,8 +4,11 @@
 
 #include <cmath>
 #include <cmmcomp/plugins/can_protocol.hpp>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <set>
+#include <string>
 
 #include "can_test_frames.hpp"
 #include "support/test_seed.hpp"
@@ -55,6 +58,33 @@ TEST(CanCodec, SignalsOfOnePartDoNotOverlapAndFitTheFrame) {
       }
     }
   }
+}
+
+// The binding table is the one list of the request's fields: every signal of the request but
+// the multiplexor, the sequence and WantInterval once, every RequestField of a signal once, each
+// accessor reading and writing its own member.
+TEST(CanCodec, TheRequestBindingsNameEveryFieldOnce) {
+  std::set<std::string> signals;
+  std::set<int> fields;
+  for (const RequestBinding& b : kRequestBindings) {
+    EXPECT_TRUE(signals.insert(b.spec->name).second) << b.spec->name;
+    EXPECT_TRUE(fields.insert(static_cast<int>(b.field)).second) << b.spec->name;
+    compensation::MoveRequest m;
+    b.set(m, 1.0);
+    EXPECT_EQ(b.get(m), 1.0) << b.spec->name;
+    compensation::MoveRequest other;
+    b.set(other, 0.0);
+    EXPECT_NE(std::memcmp(&m, &other, sizeof m), 0) << b.spec->name << " writes no member";
+  }
+  for (const SignalSpec& s : request::kSignals) {
+    const bool framing = &s == &request::kSignals[0] || std::string(s.name) == "ReqSequence" ||
+                         std::string(s.name) == "WantInterval";
+    EXPECT_EQ(signals.count(s.name), framing ? 0u : 1u) << s.name;
+  }
+  EXPECT_EQ(fields.size(), request::kSignals.size() - 3);
+  EXPECT_EQ(reject_reason(Status::kNoModel), RejectReason::kNoModel);
+  EXPECT_EQ(reject_reason(Status::kOutsideDomainRejected), RejectReason::kOutsideDomain);
+  EXPECT_EQ(reject_reason(Status::kInvalidInput), RejectReason::kInvalidMove);
 }
 
 TEST(CanCodec, RequestRoundTripKeepsEveryFieldWithinResolution) {

@@ -22,6 +22,7 @@
 #include <cmmcomp/status.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 
 namespace cmmcomp::plugins::can {
 
@@ -327,6 +328,69 @@ enum class RequestField : std::uint8_t {
   kDirection = 13,
   kSequence = 14,
 };
+/// The reject reason of a request the compensator refused with `s` (not ok).
+constexpr RejectReason reject_reason(Status s) noexcept {
+  switch (s) {
+    case Status::kNoModel:
+      return RejectReason::kNoModel;
+    case Status::kOutsideDomainRejected:
+      return RejectReason::kOutsideDomain;
+    default:
+      return RejectReason::kInvalidMove;
+  }
+}
+
+/// One request field on the wire: its signal, the detail a reject names it by, and its place in
+/// MoveRequest. The one list of the request's fields: encode_request, decode_request and the
+/// DBC and document tests go through it.
+struct RequestBinding {
+  const SignalSpec* spec;
+  RequestField field;
+  double (*get)(const compensation::MoveRequest&) noexcept;
+  void (*set)(compensation::MoveRequest&, double) noexcept;
+};
+
+// clang-format off
+inline constexpr RequestBinding kRequestBindings[] = {
+    {&request::kPv, RequestField::kPv,
+     [](const compensation::MoveRequest& m) noexcept { return m.pv_mm_s; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.pv_mm_s = v; }},
+    {&request::kPd, RequestField::kPd,
+     [](const compensation::MoveRequest& m) noexcept { return m.pd_mm; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.pd_mm = v; }},
+    {&request::kAv, RequestField::kAv,
+     [](const compensation::MoveRequest& m) noexcept { return m.av_mm_s; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.av_mm_s = v; }},
+    {&request::kAxis, RequestField::kAxis,
+     [](const compensation::MoveRequest& m) noexcept { return static_cast<double>(m.axis); },
+     [](compensation::MoveRequest& m, double v) noexcept { m.axis = static_cast<std::uint8_t>(v); }},
+    {&request::kAd, RequestField::kAd,
+     [](const compensation::MoveRequest& m) noexcept { return m.ad_mm; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.ad_mm = v; }},
+    {&request::kPa, RequestField::kPa,
+     [](const compensation::MoveRequest& m) noexcept { return m.pa_mm_s2; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.pa_mm_s2 = v; }},
+    {&request::kAa, RequestField::kAa,
+     [](const compensation::MoveRequest& m) noexcept { return m.aa_mm_s2; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.aa_mm_s2 = v; }},
+    {&request::kY, RequestField::kY,
+     [](const compensation::MoveRequest& m) noexcept { return m.y_mm; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.y_mm = v; }},
+    {&request::kZ, RequestField::kZ,
+     [](const compensation::MoveRequest& m) noexcept { return m.z_mm; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.z_mm = v; }},
+    {&request::kDirX, RequestField::kDirX,
+     [](const compensation::MoveRequest& m) noexcept { return m.direction[0]; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.direction[0] = v; }},
+    {&request::kDirY, RequestField::kDirY,
+     [](const compensation::MoveRequest& m) noexcept { return m.direction[1]; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.direction[1] = v; }},
+    {&request::kDirZ, RequestField::kDirZ,
+     [](const compensation::MoveRequest& m) noexcept { return m.direction[2]; },
+     [](compensation::MoveRequest& m, double v) noexcept { m.direction[2] = v; }},
+};
+// clang-format on
+
 /// Detail of a kResultOutOfRange reject: which response field.
 enum class ResponseField : std::uint8_t {
   kNone = 0,
@@ -472,20 +536,11 @@ inline Status encode_request(const compensation::MoveRequest& move,
                              RequestFrames& out,
                              RequestField* bad = nullptr,
                              bool want_interval = false) noexcept {
-  const EncodedValue<RequestField> items[] = {
-      {&request::kPv, move.pv_mm_s, RequestField::kPv},
-      {&request::kPd, move.pd_mm, RequestField::kPd},
-      {&request::kAv, move.av_mm_s, RequestField::kAv},
-      {&request::kAxis, static_cast<double>(move.axis), RequestField::kAxis},
-      {&request::kAd, move.ad_mm, RequestField::kAd},
-      {&request::kPa, move.pa_mm_s2, RequestField::kPa},
-      {&request::kAa, move.aa_mm_s2, RequestField::kAa},
-      {&request::kY, move.y_mm, RequestField::kY},
-      {&request::kZ, move.z_mm, RequestField::kZ},
-      {&request::kDirX, move.direction[0], RequestField::kDirX},
-      {&request::kDirY, move.direction[1], RequestField::kDirY},
-      {&request::kDirZ, move.direction[2], RequestField::kDirZ},
-  };
+  EncodedValue<RequestField> items[std::size(kRequestBindings)] = {};
+  for (std::size_t i = 0; i < std::size(kRequestBindings); ++i) {
+    const RequestBinding& b = kRequestBindings[i];
+    items[i] = {b.spec, b.get(move), b.field};
+  }
   if (move.sequence > kSequenceMask) {
     if (bad != nullptr) *bad = RequestField::kSequence;
     return Status::kInvalidInput;
@@ -513,52 +568,26 @@ struct RequestCheck {
 inline RequestCheck decode_request(const std::array<std::uint64_t, kRequestParts>& words,
                                    std::uint8_t sequence,
                                    compensation::MoveRequest& move) noexcept {
-  struct Item {
-    const SignalSpec* spec;
-    RequestField field;
-  };
-  constexpr Item items[] = {
-      {&request::kPv, RequestField::kPv},
-      {&request::kPd, RequestField::kPd},
-      {&request::kAv, RequestField::kAv},
-      {&request::kAxis, RequestField::kAxis},
-      {&request::kAd, RequestField::kAd},
-      {&request::kPa, RequestField::kPa},
-      {&request::kAa, RequestField::kAa},
-      {&request::kY, RequestField::kY},
-      {&request::kZ, RequestField::kZ},
-      {&request::kDirX, RequestField::kDirX},
-      {&request::kDirY, RequestField::kDirY},
-      {&request::kDirZ, RequestField::kDirZ},
-  };
   for (std::uint8_t p = 0; p < kRequestParts; ++p) {
     if ((words[p] & request::kReservedMask[p]) != 0) {
       return {RejectReason::kReservedBits, RequestField::kNone, p};
     }
   }
-  double v[12] = {};
-  for (std::size_t i = 0; i < 12; ++i) {
-    const SignalSpec& s = *items[i].spec;
-    const auto part = static_cast<std::uint8_t>(s.mux);
-    const std::int64_t raw = get_raw(words[part], s);
-    if (!raw_in_range(s, raw)) return {RejectReason::kFieldOutOfRange, items[i].field, part};
-    v[i] = to_physical(s, raw);
+  compensation::MoveRequest m;
+  for (const RequestBinding& b : kRequestBindings) {
+    const auto part = static_cast<std::uint8_t>(b.spec->mux);
+    const std::int64_t raw = get_raw(words[part], *b.spec);
+    if (!raw_in_range(*b.spec, raw)) return {RejectReason::kFieldOutOfRange, b.field, part};
+    b.set(m, to_physical(*b.spec, raw));
   }
-  const double norm = std::sqrt(v[9] * v[9] + v[10] * v[10] + v[11] * v[11]);
+  const auto& d = m.direction;
+  const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   if (!(std::fabs(norm - 1.0) <= request::kDirectionNormTolerance)) {
     return {RejectReason::kFieldOutOfRange, RequestField::kDirection, 2};
   }
-  move.sequence = sequence;
-  move.pv_mm_s = v[0];
-  move.pd_mm = v[1];
-  move.av_mm_s = v[2];
-  move.axis = static_cast<std::uint8_t>(v[3]);
-  move.ad_mm = v[4];
-  move.pa_mm_s2 = v[5];
-  move.aa_mm_s2 = v[6];
-  move.y_mm = v[7];
-  move.z_mm = v[8];
-  move.direction = {v[9] / norm, v[10] / norm, v[11] / norm};
+  m.direction = {d[0] / norm, d[1] / norm, d[2] / norm};
+  m.sequence = sequence;
+  move = m;
   RequestCheck check;
   check.want_interval = get_raw(words[0], request::kWantInterval) != 0;
   return check;
@@ -587,7 +616,7 @@ inline Status encode_response(const compensation::Correction& c,
       {&response::kCorrY, c.correction_um[1], ResponseField::kCorrY},
       {&response::kCorrZ, c.correction_um[2], ResponseField::kCorrZ},
   };
-  if (c.sequence > kSequenceMask || axis > 3) return Status::kInvalidInput;
+  if (c.sequence > kSequenceMask || axis >= compensation::kMaxAxes) return Status::kInvalidInput;
   auto words = part_words<kResponseParts>(response::kPart, response::kSequence, c.sequence);
   put_raw(words[0], response::kFlags, c.flags & compensation::kFlagsVersion1);
   put_raw(words[0], response::kAxis, axis);

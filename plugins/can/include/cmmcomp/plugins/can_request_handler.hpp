@@ -256,11 +256,7 @@ class CanRequestHandler {
     if (s == Status::kOutsideDomain) bump(counters_.outside_domain);
     if (!ok(s)) {
       bump(counters_.refused);
-      const can::RejectReason reason = s == Status::kNoModel ? can::RejectReason::kNoModel
-                                       : s == Status::kOutsideDomainRejected
-                                           ? can::RejectReason::kOutsideDomain
-                                           : can::RejectReason::kInvalidMove;
-      reject(reason, sequence_, can::kUnknown, 0, static_cast<std::int16_t>(s), out);
+      reject(can::reject_reason(s), sequence_, can::kUnknown, 0, static_cast<std::int16_t>(s), out);
       return;
     }
     can::ResponseFrames frames;
