@@ -221,22 +221,47 @@ inline float get_f32(const std::uint16_t* regs) noexcept {
 
 // ---- the request
 
+/// One binary32 request field: its first holding register and its place in MoveRequest. The one
+/// list of the request's float fields: encode_request and decode_request go through it.
+struct FloatBinding {
+  std::uint16_t reg;
+  double (*get)(const compensation::MoveRequest&) noexcept;
+  void (*set)(compensation::MoveRequest&, double) noexcept;
+};
+
+// clang-format off
+inline constexpr FloatBinding kFloatBindings[] = {
+    {kDirectionX, [](const compensation::MoveRequest& m) noexcept { return m.direction[0]; },
+                  [](compensation::MoveRequest& m, double v) noexcept { m.direction[0] = v; }},
+    {kDirectionY, [](const compensation::MoveRequest& m) noexcept { return m.direction[1]; },
+                  [](compensation::MoveRequest& m, double v) noexcept { m.direction[1] = v; }},
+    {kDirectionZ, [](const compensation::MoveRequest& m) noexcept { return m.direction[2]; },
+                  [](compensation::MoveRequest& m, double v) noexcept { m.direction[2] = v; }},
+    {kPv, [](const compensation::MoveRequest& m) noexcept { return m.pv_mm_s; },
+          [](compensation::MoveRequest& m, double v) noexcept { m.pv_mm_s = v; }},
+    {kPa, [](const compensation::MoveRequest& m) noexcept { return m.pa_mm_s2; },
+          [](compensation::MoveRequest& m, double v) noexcept { m.pa_mm_s2 = v; }},
+    {kPd, [](const compensation::MoveRequest& m) noexcept { return m.pd_mm; },
+          [](compensation::MoveRequest& m, double v) noexcept { m.pd_mm = v; }},
+    {kAv, [](const compensation::MoveRequest& m) noexcept { return m.av_mm_s; },
+          [](compensation::MoveRequest& m, double v) noexcept { m.av_mm_s = v; }},
+    {kAa, [](const compensation::MoveRequest& m) noexcept { return m.aa_mm_s2; },
+          [](compensation::MoveRequest& m, double v) noexcept { m.aa_mm_s2 = v; }},
+    {kAd, [](const compensation::MoveRequest& m) noexcept { return m.ad_mm; },
+          [](compensation::MoveRequest& m, double v) noexcept { m.ad_mm = v; }},
+    {kY, [](const compensation::MoveRequest& m) noexcept { return m.y_mm; },
+         [](compensation::MoveRequest& m, double v) noexcept { m.y_mm = v; }},
+    {kZ, [](const compensation::MoveRequest& m) noexcept { return m.z_mm; },
+         [](compensation::MoveRequest& m, double v) noexcept { m.z_mm = v; }},
+};
+// clang-format on
+
 /// Writes `m` into the holding-register image (direction and values rounded to binary32; the
 /// sequence keeps its low 16 bits). RT-safe.
 inline void encode_request(const compensation::MoveRequest& m, HoldingRegisters& h) noexcept {
   h[kAxis] = m.axis;
   h[kReserved] = 0;
-  put_f32(&h[kDirectionX], static_cast<float>(m.direction[0]));
-  put_f32(&h[kDirectionY], static_cast<float>(m.direction[1]));
-  put_f32(&h[kDirectionZ], static_cast<float>(m.direction[2]));
-  put_f32(&h[kPv], static_cast<float>(m.pv_mm_s));
-  put_f32(&h[kPa], static_cast<float>(m.pa_mm_s2));
-  put_f32(&h[kPd], static_cast<float>(m.pd_mm));
-  put_f32(&h[kAv], static_cast<float>(m.av_mm_s));
-  put_f32(&h[kAa], static_cast<float>(m.aa_mm_s2));
-  put_f32(&h[kAd], static_cast<float>(m.ad_mm));
-  put_f32(&h[kY], static_cast<float>(m.y_mm));
-  put_f32(&h[kZ], static_cast<float>(m.z_mm));
+  for (const FloatBinding& b : kFloatBindings) put_f32(&h[b.reg], static_cast<float>(b.get(m)));
   h[kSequence] = static_cast<std::uint16_t>(m.sequence & 0xFFFFu);
 }
 
@@ -248,17 +273,7 @@ inline void encode_request(const compensation::MoveRequest& m, HoldingRegisters&
   if (h[kAxis] >= compensation::kMaxAxes || h[kReserved] != 0) return Status::kInvalidInput;
   m.sequence = h[kSequence];
   m.axis = static_cast<std::uint8_t>(h[kAxis]);
-  m.direction = {static_cast<double>(get_f32(&h[kDirectionX])),
-                 static_cast<double>(get_f32(&h[kDirectionY])),
-                 static_cast<double>(get_f32(&h[kDirectionZ]))};
-  m.pv_mm_s = static_cast<double>(get_f32(&h[kPv]));
-  m.pa_mm_s2 = static_cast<double>(get_f32(&h[kPa]));
-  m.pd_mm = static_cast<double>(get_f32(&h[kPd]));
-  m.av_mm_s = static_cast<double>(get_f32(&h[kAv]));
-  m.aa_mm_s2 = static_cast<double>(get_f32(&h[kAa]));
-  m.ad_mm = static_cast<double>(get_f32(&h[kAd]));
-  m.y_mm = static_cast<double>(get_f32(&h[kY]));
-  m.z_mm = static_cast<double>(get_f32(&h[kZ]));
+  for (const FloatBinding& b : kFloatBindings) b.set(m, static_cast<double>(get_f32(&h[b.reg])));
   return Status::kOk;
 }
 
