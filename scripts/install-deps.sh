@@ -17,7 +17,7 @@ main=(
 )
 test=(
   can-utils user-mode-linux kmod iproute2 mbpoll socat
-  clang-format systemd dpkg-dev file
+  clang-format systemd dpkg-dev file python3
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
   g++-aarch64-linux-gnu qemu-user
   clang libclang-rt-14-dev libomp-14-dev

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file golden_vectors: writes the golden-vector file on the host, or checks one on this target
 /// (the host, or aarch64 under qemu-aarch64). The Cortex-M7 image checks the same file, linked
-/// into it (examples/firmware-cortex-m7/golden_image.cpp).
+/// into it (tests/firmware/golden_image.cpp).
 ///
 ///   golden_vectors --write FILE   write every case's result (through FILE.tmp, then renamed)
 ///   golden_vectors --check FILE   exit 0 when every line matches this target's result

@@ -99,7 +99,7 @@ static_assert(kErrors[0].correction == &Correction::mpe_um &&
   }
   if (!finite) return Status::kInvalidInput;
   // Field by field, not through kErrors' member pointers: the same stores, but GCC -O2 keeps
-  // the pointer loop on Cortex-M7 (+54 instructions per call). The static_asserts below tie
+  // the pointer loop on Cortex-M7 (+54 instructions per call). The static_asserts above tie
   // the order to the schema.
   out.mpe_um = y[0];
   out.rpe_um = y[1];

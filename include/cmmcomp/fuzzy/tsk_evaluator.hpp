@@ -30,8 +30,9 @@
 ///      input at a time, each stage an element-wise weighted sum of contiguous slices;
 ///  - then y_o = (t_o0 + Σ_i x_i t_o,1+i)/Σα.
 /// The order of every floating-point operation is fixed by the source (no reductions left to the
-/// compiler), so scalar and SIMD builds of any width give the same bits (with FMA contraction
-/// off, as cmmcomp::core sets it).
+/// compiler), so scalar and SIMD builds of any width give the same bits when FMA contraction is
+/// off: cmmcomp's own builds turn it off, and a consumer links cmmcomp::strict_fp to do the
+/// same (cmmcomp::core sets no flags).
 ///
 /// `TskEvaluator<Scalar, …>::forward` is the single implementation of the math: `evaluate`
 /// runs it with double or float, training runs it with ceres::Jet (this header includes no

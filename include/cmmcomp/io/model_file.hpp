@@ -142,7 +142,8 @@ struct ModelFile {
 
 namespace detail {
 
-/// Size-erased form of ModelFile, the interface to src/io/model_file.cpp. Not API.
+/// Size-erased form of ModelFile, the interface to src/io/model_file_json.cpp and
+/// src/io/model_header_export.cpp. Not API.
 struct ModelData {
   int inputs = 0;
   int sets = 0;

@@ -195,7 +195,6 @@ class CanRequestHandler {
         heartbeats{0}, send_errors{0}, ignored{0};
   };
 
-  // One writer thread: a load and a store are enough, and cheaper than a locked add.
   /// now_ns + the part timeout, saturated: a clock near the end of int64 (any monotonic clock
   /// is allowed) must not wrap the deadline into the past and reject a request that is on time.
   std::int64_t deadline_after(std::int64_t now_ns) const noexcept {
@@ -203,6 +202,7 @@ class CanRequestHandler {
     return now_ns > room ? std::numeric_limits<std::int64_t>::max() : now_ns + part_timeout_ns_;
   }
 
+  // One writer thread: a load and a store are enough, and cheaper than a locked add.
   static void bump(std::atomic<std::uint64_t>& c) noexcept {
     c.store(c.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   }
