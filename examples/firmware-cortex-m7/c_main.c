@@ -10,6 +10,7 @@
 extern const cmmcomp_fw_model default_model_c;
 extern const uint64_t default_model_c_id;
 extern const cmmcomp_fw_interval_calibration default_model_c_interval;
+extern const cmmcomp_fw_conditions default_model_c_conditions;
 
 static cmmcomp_move_request move(uint32_t sequence, double pv, double pd, double av, double ad) {
   cmmcomp_move_request m = {0};

@@ -69,13 +69,14 @@ int main() {
     }
   }
   // The moves a part program would announce: the paper's Table 3 corners, one move outside the
-  // training ranges (clamped and flagged) and one corrupt request (rejected, no correction).
+  // training ranges by less than kFarOutsideShare (clamped and flagged) and one corrupt request
+  // (rejected, no correction).
   const MoveRequest moves[] = {
       move(1, 40, 40, 8, 5, +1),
       move(2, 100, 80, 16, 15, -1),
       move(3, 70, 60, 12, 10, +1),
       move(4, 100, 40, 16, 5, +1),
-      move(5, 150, 60, 12, 10, +1),
+      move(5, 105, 60, 12, 10, +1),
       move(6, 0.0, 60, 12, 10, +1),
   };
   int failures = 0;
