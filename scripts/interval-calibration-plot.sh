@@ -7,7 +7,7 @@
 # held-out moves (LHS 270, seeds 2, 4 and 5: 810 moves) whose measured value lies within
 # predicted +- U_c is measured with `cmmcomp-train eval --json`.
 # Writes OUT/interval-calibration.csv and OUT/interval-calibration.png (gnuplot) and prints the
-# table: a measurement, not a check (the 95 % level is checked by scripts/interval-coverage.sh).
+# table: a measurement, not a check (the 95 % level is checked by cmmcomp-study interval-coverage).
 # Usage: bash scripts/interval-calibration-plot.sh [OUT]   (needs the release tools; about 6 min)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
