@@ -1,21 +1,22 @@
 // SPDX-License-Identifier: MIT
 /// @file cmmcomp-study: the project's experiments as C++ over the libraries (docs/study.md). Each
 /// subcommand runs one cmmcomp::study experiment on the recipes it is given, prints its table
-/// (or --json) and judges its targets with one known-unmet list; exit 1 when the check fails.
-#include <fmt/format.h>
+/// (or --json), judges its targets with one known-unmet list and checks (or writes) its block of
+/// the results page; exit 1 when a target fails or the block is stale, 2 on a usage error.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
+#include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/model_file.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/study/acceptance.hpp>
 #include <cmmcomp/study/accuracy.hpp>
 #include <cmmcomp/study/interval_coverage.hpp>
 #include <cmmcomp/study/recipe.hpp>
+#include <cmmcomp/study/report.hpp>
 #include <cmmcomp/study/train.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
@@ -27,44 +28,50 @@
 
 namespace {
 
+using cmmcomp::study::Document;
 using cmmcomp::study::Target;
 
-nlohmann::ordered_json targets_json(const std::vector<Target>& targets) {
-  nlohmann::ordered_json a = nlohmann::ordered_json::array();
-  for (const Target& t : targets) {
-    a.push_back({{"name", t.name},
-                 {"measured", t.measured},
-                 {"limit", t.limit},
-                 {"kind", t.kind == Target::Kind::kAtLeast ? "at least" : "at most"},
-                 {"unit", t.unit},
-                 {"met", t.met()},
-                 {"known_unmet", t.known_unmet}});
-  }
-  return a;
-}
+/// How an experiment reports: the command that ran it, JSON or Markdown, and the results page
+/// block it checks or updates.
+struct Output {
+  std::string command, block, known, page;
+  bool json = false, update_page = false;
+};
 
-/// Judges `targets`, prints the verdict (text) and returns the exit status.
-int judge(std::vector<Target>& targets,
-          const std::string& known_unmet_path,
-          nlohmann::ordered_json* json) {
-  const cmmcomp::study::KnownUnmet known = known_unmet_path.empty()
+/// Judges `targets`, prints the document (Markdown or JSON), checks or updates the page's block,
+/// and returns the exit status: 1 when a target fails or the page's block is stale.
+int finish(Document result, std::vector<Target>& targets, const Output& out) {
+  const cmmcomp::study::KnownUnmet known = out.known.empty()
                                                ? cmmcomp::study::KnownUnmet{}
-                                               : cmmcomp::study::read_known_unmet(known_unmet_path);
+                                               : cmmcomp::study::read_known_unmet(out.known);
   const cmmcomp::study::Verdict v = cmmcomp::study::check(targets, known);
-  if (json != nullptr) {
-    (*json)["targets"] = targets_json(targets);
-    (*json)["passed"] = v.passed;
-    (*json)["failures"] = v.failures;
-    std::printf("%s\n", json->dump(2).c_str());
-  } else {
-    for (const Target& t : targets) {
-      if (t.known_unmet && !t.met()) std::printf("%s: known unmet, still unmet\n", t.name.c_str());
+  Document doc{{"experiment", result["experiment"]},
+               {"block", out.block.empty() ? result["experiment"] : Document(out.block)},
+               {"command", out.command}};
+  doc.update(result);
+  cmmcomp::study::add_verdict(doc, targets, v);
+  std::printf("%s\n",
+              out.json ? doc.dump(2).c_str() : cmmcomp::study::render_markdown(doc).c_str());
+  int status = v.passed ? 0 : 1;
+  if (!out.page.empty()) {
+    const cmmcomp::study::PageSync sync = cmmcomp::study::sync_page(out.page, doc, out.update_page);
+    if (!sync.current && out.update_page) {
+      std::fprintf(stderr,
+                   "cmmcomp-study: updated the block \"%s\" of %s\n",
+                   doc["block"].get<std::string>().c_str(),
+                   out.page.c_str());
+    } else if (!sync.current) {
+      std::fprintf(stderr,
+                   "cmmcomp-study: the block \"%s\" of %s is stale: this run renders it "
+                   "differently, first at\n%s\nRegenerate it (scripts/regenerate-results.sh, or "
+                   "this command with --update-page) and commit the page.\n",
+                   doc["block"].get<std::string>().c_str(),
+                   out.page.c_str(),
+                   sync.first_difference.c_str());
+      status = 1;
     }
-    for (const std::string& f : v.failures) std::printf("FAIL: %s\n", f.c_str());
-    std::printf(
-        "%s: %s (%zu targets)\n", "cmmcomp-study", v.passed ? "PASS" : "FAIL", targets.size());
   }
-  return v.passed ? 0 : 1;
+  return status;
 }
 
 cmmcomp::study::RunOptions run_options() {
@@ -75,84 +82,26 @@ cmmcomp::study::RunOptions run_options() {
   return o;
 }
 
-int run_accuracy(const std::vector<std::string>& recipes, const std::string& known, bool json) {
+int run_accuracy(const std::vector<std::string>& recipes, const Output& out) {
   std::vector<Target> targets;
-  nlohmann::ordered_json j;
-  j["experiment"] = "accuracy";
-  j["tests"] = nlohmann::ordered_json::array();
-  if (!json) {
-    std::printf("%-36s %-4s %10s %10s %9s %9s  (limit: residual um, reduction %%)\n",
-                "test",
-                "",
-                "before um",
-                "after um",
-                "reduct %",
-                "cover %");
-  }
+  std::vector<cmmcomp::study::AccuracyResult> results;
   for (const std::string& path : recipes) {
-    const cmmcomp::study::AccuracyResult r =
-        cmmcomp::study::fit_and_test(cmmcomp::study::load_recipe(path), run_options());
-    for (const auto& t : r.tests) {
-      nlohmann::ordered_json test{{"label", t.label},
-                                  {"recipe", r.recipe},
-                                  {"train_seed", t.train_seed},
-                                  {"test_seed", t.test_seed},
-                                  {"train_samples", t.train_samples},
-                                  {"test_samples", t.evaluation.samples},
-                                  {"outside", t.evaluation.outside}};
-      for (std::size_t p = 0; p < cmmcomp::kErrorCount; ++p) {
-        const auto& row = t.evaluation.table[p];
-        const double cov = t.evaluation.coverage_pct[p];
-        test[cmmcomp::kErrors[p].key] = {
-            {"mean_before_um", row.mean_before},
-            {"mean_after_um", row.mean_after},
-            {"reduction_pct", row.reduction_pct},
-            {"coverage_pct", std::isfinite(cov) ? nlohmann::ordered_json(cov) : nullptr}};
-        if (!json) {
-          std::printf("%-36s %-4s %10.3f %10.3f %9.1f %9.1f\n",
-                      p == 0 ? t.label.c_str() : "",
-                      cmmcomp::kErrors[p].label,
-                      row.mean_before,
-                      row.mean_after,
-                      row.reduction_pct,
-                      cov);
-        }
-      }
-      j["tests"].push_back(test);
-    }
-    targets.insert(targets.end(), r.targets.begin(), r.targets.end());
+    results.push_back(
+        cmmcomp::study::fit_and_test(cmmcomp::study::load_recipe(path), run_options()));
+    targets.insert(targets.end(), results.back().targets.begin(), results.back().targets.end());
   }
-  return judge(targets, known, json ? &j : nullptr);
+  return finish(cmmcomp::study::accuracy_document(results), targets, out);
 }
 
-int run_cell_interpolant(const std::vector<std::string>& recipes,
-                         const std::string& known,
-                         bool json) {
+int run_cell_interpolant(const std::vector<std::string>& recipes, const Output& out) {
   std::vector<Target> targets;
-  nlohmann::ordered_json j;
-  j["experiment"] = "cell-interpolant";
-  j["tests"] = nlohmann::ordered_json::array();
+  std::vector<cmmcomp::study::CellInterpolantResult> results;
   for (const std::string& path : recipes) {
-    const auto r =
-        cmmcomp::study::cell_interpolant(cmmcomp::study::load_recipe(path), run_options());
-    for (const auto& t : r.tests) {
-      j["tests"].push_back({{"label", t.label},
-                            {"rpe_mean_before_um", t.mean_before_um},
-                            {"rpe_mean_after_um", t.mean_after_um},
-                            {"rpe_reduction_pct", t.reduction_pct}});
-      if (!json) {
-        std::printf(
-            "%s: RPE mean before %.3f um, cell interpolant mean |residual| %.3f um, "
-            "reduction %.1f %%\n",
-            t.label.c_str(),
-            t.mean_before_um,
-            t.mean_after_um,
-            t.reduction_pct);
-      }
-    }
-    targets.insert(targets.end(), r.targets.begin(), r.targets.end());
+    results.push_back(
+        cmmcomp::study::cell_interpolant(cmmcomp::study::load_recipe(path), run_options()));
+    targets.insert(targets.end(), results.back().targets.begin(), results.back().targets.end());
   }
-  return judge(targets, known, json ? &j : nullptr);
+  return finish(cmmcomp::study::cell_interpolant_document(results), targets, out);
 }
 
 int run_dataset(const std::string& path,
@@ -205,8 +154,7 @@ int run_interval_coverage(const std::string& model,
                           const std::string& model_y,
                           const std::string& recipe,
                           const std::vector<std::string>& variants,
-                          const std::string& known,
-                          bool json) {
+                          const Output& out) {
   const cmmcomp::study::CoverageResult r =
       cmmcomp::study::interval_coverage(cmmcomp::io::load_compensation_model(model),
                                         cmmcomp::io::load_compensation_model(model_y),
@@ -214,42 +162,27 @@ int run_interval_coverage(const std::string& model,
                                         variants,
                                         run_options());
   std::vector<Target> targets = r.targets;
-  nlohmann::ordered_json j;
-  j["experiment"] = "interval-coverage";
-  j["model"] = r.model_id;
-  j["model_y"] = r.model_y_id;
-  j["rows"] = nlohmann::ordered_json::array();
-  if (!json) {
-    std::printf("model %s (5-input %s), nominal coverage 95 %%\n",
-                r.model_id.c_str(),
-                r.model_y_id.c_str());
-    std::printf(
-        "| test set | moves | outside domain | coverage %% (mean U95 µm) MPE | RPE | MAE | RAE "
-        "|\n");
-    std::printf("|---|---|---|---|---|---|---|\n");
-  }
-  for (const auto& row : r.rows) {
-    nlohmann::ordered_json o{{"name", row.name}, {"moves", row.moves}, {"outside", row.outside}};
-    std::string cells;
-    for (std::size_t p = 0; p < cmmcomp::kErrorCount; ++p) {
-      o[cmmcomp::kErrors[p].key] = {{"coverage_pct", row.coverage_pct[p]},
-                                    {"mean_u95_um", row.mean_u95_um[p]}};
-      cells += fmt::format(" | {:.1f} ({:.2f})", row.coverage_pct[p], row.mean_u95_um[p]);
-    }
-    j["rows"].push_back(o);
-    if (!json)
-      std::printf(
-          "| %s | %zu | %zu%s |\n", row.name.c_str(), row.moves, row.outside, cells.c_str());
-  }
-  for (std::size_t p = 0; p < cmmcomp::kErrorCount; ++p) {
-    j["pooled_coverage_pct"][cmmcomp::kErrors[p].key] = r.pooled_pct[p];
-    if (!json) {
-      std::printf("pooled over the held-out seeds: %s coverage %.1f %%\n",
-                  cmmcomp::kErrors[p].key,
-                  r.pooled_pct[p]);
+  return finish(cmmcomp::study::interval_coverage_document(r), targets, out);
+}
+
+/// Renders result documents (the JSON of `--json`) into the page's blocks.
+int run_render(const std::vector<std::string>& documents, const Output& out) {
+  int status = 0;
+  for (const std::string& path : documents) {
+    const Document doc = Document::parse(
+        cmmcomp::io::read_file_bounded(path, "study document", std::uintmax_t{1} << 24));
+    const cmmcomp::study::PageSync sync = cmmcomp::study::sync_page(out.page, doc, out.update_page);
+    if (!sync.current) {
+      std::fprintf(stderr,
+                   "cmmcomp-study: %s the block \"%s\" of %s from %s\n",
+                   out.update_page ? "updated" : "stale:",
+                   doc.value("block", "").c_str(),
+                   out.page.c_str(),
+                   path.c_str());
+      if (!out.update_page) status = 1;
     }
   }
-  return judge(targets, known, json ? &j : nullptr);
+  return status;
 }
 
 }  // namespace
@@ -259,8 +192,19 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("cmmcomp ") + CMMCOMP_VERSION_STRING);
   app.require_subcommand(1);
   std::vector<std::string> recipes;
-  std::string known;
-  bool json = false;
+  Output out;
+  out.command = cmmcomp::study::command_line(argc, argv);
+  // The reporting options of every experiment: the known-unmet list, JSON, the results page.
+  const auto reporting = [&out](CLI::App* sub) {
+    sub->add_option("--known-unmet", out.known, "targets known to be unmet, one per line")
+        ->check(CLI::ExistingFile);
+    sub->add_flag("--json", out.json, "print the results and the verdict as JSON");
+    sub->add_option("--page", out.page, "check this results page's block (docs/results.md)")
+        ->check(CLI::ExistingFile);
+    sub->add_flag("--update-page", out.update_page, "write the block instead of checking it")
+        ->needs(sub->get_option("--page"));
+    sub->add_option("--block", out.block, "the block's name (default: the experiment's)");
+  };
   CLI::App* accuracy = app.add_subcommand(
       "accuracy",
       "train each recipe's network and test it: Table 5 and the interval's coverage per test, "
@@ -272,9 +216,7 @@ int main(int argc, char** argv) {
     sub->add_option("--recipe", recipes, "recipe file (data/recipes/*.toml), repeatable")
         ->required()
         ->check(CLI::ExistingFile);
-    sub->add_option("--known-unmet", known, "targets known to be unmet, one per line")
-        ->check(CLI::ExistingFile);
-    sub->add_flag("--json", json, "print the results and the verdict as JSON");
+    reporting(sub);
   }
   std::string recipe_path, part = "training", output;
   std::uint64_t seed = 0;
@@ -311,20 +253,30 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   coverage->add_option("--variant", variants, "a machine file the model never saw, repeatable")
       ->check(CLI::ExistingFile);
-  coverage->add_option("--known-unmet", known, "targets known to be unmet, one per line")
+  reporting(coverage);
+  std::vector<std::string> documents;
+  CLI::App* render = app.add_subcommand(
+      "render", "render result documents (--json output) into their blocks of a results page");
+  render->add_option("documents", documents, "result documents (JSON)")
+      ->required()
       ->check(CLI::ExistingFile);
-  coverage->add_flag("--json", json, "print the results and the verdict as JSON");
+  render->add_option("--page", out.page, "the results page")->required()->check(CLI::ExistingFile);
+  render->add_flag("--check", "fail when a block is stale instead of writing the page");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return cmmcomp::tools::usage_exit(app, e);
   }
   try {
-    if (accuracy->parsed()) return run_accuracy(recipes, known, json);
-    if (cells->parsed()) return run_cell_interpolant(recipes, known, json);
+    if (accuracy->parsed()) return run_accuracy(recipes, out);
+    if (cells->parsed()) return run_cell_interpolant(recipes, out);
+    if (render->parsed()) {
+      out.update_page = render->count("--check") == 0;
+      return run_render(documents, out);
+    }
     if (train->parsed()) return run_train(train_recipe, model_out, data_out, folds);
     if (coverage->parsed()) {
-      return run_interval_coverage(cov_model, cov_model_y, cov_recipe, variants, known, json);
+      return run_interval_coverage(cov_model, cov_model_y, cov_recipe, variants, out);
     }
     return run_dataset(recipe_path, part, seed, seed_opt->count() > 0, output);
   } catch (const cmmcomp::ConfigError& e) {

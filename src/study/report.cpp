@@ -1,0 +1,289 @@
+// SPDX-License-Identifier: MIT
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/io/file_io.hpp>
+#include <cmmcomp/schema.hpp>
+#include <cmmcomp/study/report.hpp>
+#include <string>
+
+namespace cmmcomp::study {
+
+namespace {
+
+nlohmann::ordered_json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+/// A field that must be there: ConfigError naming it otherwise.
+const Document& field(const Document& doc, const char* key) {
+  if (!doc.is_object() || !doc.contains(key)) {
+    throw ConfigError(fmt::format("study document: no \"{}\" field", key));
+  }
+  return doc.at(key);
+}
+
+/// A number with `decimals`, or "—" for null (a figure that does not exist, e.g. the coverage of a
+/// model without an interval).
+std::string num(const Document& v, int decimals) {
+  if (!v.is_number()) return "—";
+  return fmt::format("{:.{}f}", v.get<double>(), decimals);
+}
+
+std::string table_header(const std::string& first, const std::string& per_parameter) {
+  std::string head = "| " + first;
+  std::string rule = "| ---";
+  const std::size_t extra = static_cast<std::size_t>(
+      std::count(first.begin(), first.end(), '|'));  // columns the caller added
+  for (std::size_t i = 0; i < extra; ++i) rule += " | ---";
+  for (const auto& e : kErrors) {
+    head += fmt::format(" | {} {}", e.label, per_parameter);
+    rule += " | ---";
+  }
+  return head + " |\n" + rule + " |\n";
+}
+
+std::string render_accuracy(const Document& doc) {
+  std::string out = table_header("test | moves trained / tested | outside domain",
+                                 "mean before → after µm (reduction %, coverage %)");
+  for (const Document& t : field(doc, "tests")) {
+    out += fmt::format("| {} | {} / {} | {}",
+                       field(t, "label").get<std::string>(),
+                       field(t, "train_samples").get<std::size_t>(),
+                       field(t, "test_samples").get<std::size_t>(),
+                       field(t, "outside").get<std::size_t>());
+    for (const auto& e : kErrors) {
+      const Document& p = field(t, e.key);
+      out += fmt::format(" | {} → {} ({}, {})",
+                         num(field(p, "mean_before_um"), 3),
+                         num(field(p, "mean_after_um"), 3),
+                         num(field(p, "reduction_pct"), 1),
+                         num(field(p, "coverage_pct"), 1));
+    }
+    out += " |\n";
+  }
+  return out;
+}
+
+std::string render_cell_interpolant(const Document& doc) {
+  std::string out =
+      "| test | RPE mean before µm | cell interpolant mean \\|residual\\| µm | reduction % |\n"
+      "| --- | --- | --- | --- |\n";
+  for (const Document& t : field(doc, "tests")) {
+    out += fmt::format("| {} | {} | {} | {} |\n",
+                       field(t, "label").get<std::string>(),
+                       num(field(t, "rpe_mean_before_um"), 3),
+                       num(field(t, "rpe_mean_after_um"), 3),
+                       num(field(t, "rpe_reduction_pct"), 1));
+  }
+  return out;
+}
+
+std::string render_interval_coverage(const Document& doc) {
+  std::string out = fmt::format("Model {} (5-input {}), nominal coverage 95 %.\n\n",
+                                field(doc, "model").get<std::string>(),
+                                field(doc, "model_y").get<std::string>());
+  out += table_header("test set | moves | outside domain", "coverage % (mean U95 µm)");
+  for (const Document& r : field(doc, "rows")) {
+    out += fmt::format("| {} | {} | {}",
+                       field(r, "name").get<std::string>(),
+                       field(r, "moves").get<std::size_t>(),
+                       field(r, "outside").get<std::size_t>());
+    for (const auto& e : kErrors) {
+      const Document& p = field(r, e.key);
+      out += fmt::format(
+          " | {} ({})", num(field(p, "coverage_pct"), 1), num(field(p, "mean_u95_um"), 2));
+    }
+    out += " |\n";
+  }
+  out += "\nPooled over the held-out seeds:";
+  const Document& pooled = field(doc, "pooled_coverage_pct");
+  for (const auto& e : kErrors) {
+    out += fmt::format(
+        " {} {} %{}", e.label, num(field(pooled, e.key), 1), &e == &kErrors.back() ? "." : ",");
+  }
+  return out + "\n";
+}
+
+std::string render_verdict(const Document& doc) {
+  if (!doc.contains("targets")) return "";
+  const Document& targets = field(doc, "targets");
+  std::string known;
+  for (const Document& t : targets) {
+    if (t.value("known_unmet", false) && !t.value("met", false)) {
+      known += (known.empty() ? "" : "; ") + t.value("name", std::string());
+    }
+  }
+  std::string out;
+  if (field(doc, "passed").get<bool>()) {
+    out = fmt::format("**PASS**: {} targets", targets.size());
+  } else {
+    out = fmt::format("**FAIL**: {} of {} targets", field(doc, "failures").size(), targets.size());
+  }
+  out += known.empty() ? ", none known unmet." : fmt::format("; known unmet: {}.", known);
+  out += "\n";
+  for (const Document& f : field(doc, "failures")) out += "- " + f.get<std::string>() + "\n";
+  return out;
+}
+
+std::string block_name(const Document& doc) {
+  if (doc.contains("block") && doc.at("block").is_string()) return doc.at("block");
+  return field(doc, "experiment").get<std::string>();
+}
+
+}  // namespace
+
+Document accuracy_document(const std::vector<AccuracyResult>& results) {
+  Document doc;
+  doc["experiment"] = "accuracy";
+  doc["tests"] = Document::array();
+  for (const AccuracyResult& r : results) {
+    for (const AccuracyTest& t : r.tests) {
+      Document test{{"label", t.label},
+                    {"recipe", r.recipe},
+                    {"train_seed", t.train_seed},
+                    {"test_seed", t.test_seed},
+                    {"train_samples", t.train_samples},
+                    {"test_samples", t.evaluation.samples},
+                    {"outside", t.evaluation.outside}};
+      for (std::size_t p = 0; p < kErrorCount; ++p) {
+        const auto& row = t.evaluation.table[p];
+        test[kErrors[p].key] = {{"mean_before_um", row.mean_before},
+                                {"mean_after_um", row.mean_after},
+                                {"reduction_pct", row.reduction_pct},
+                                {"coverage_pct", number_or_null(t.evaluation.coverage_pct[p])}};
+      }
+      doc["tests"].push_back(test);
+    }
+  }
+  return doc;
+}
+
+Document cell_interpolant_document(const std::vector<CellInterpolantResult>& results) {
+  Document doc;
+  doc["experiment"] = "cell-interpolant";
+  doc["tests"] = Document::array();
+  for (const CellInterpolantResult& r : results) {
+    for (const CellInterpolantTest& t : r.tests) {
+      doc["tests"].push_back({{"label", t.label},
+                              {"recipe", r.recipe},
+                              {"rpe_mean_before_um", t.mean_before_um},
+                              {"rpe_mean_after_um", t.mean_after_um},
+                              {"rpe_reduction_pct", t.reduction_pct}});
+    }
+  }
+  return doc;
+}
+
+Document interval_coverage_document(const CoverageResult& result) {
+  Document doc;
+  doc["experiment"] = "interval-coverage";
+  doc["model"] = result.model_id;
+  doc["model_y"] = result.model_y_id;
+  doc["rows"] = Document::array();
+  for (const CoverageRow& row : result.rows) {
+    Document o{{"name", row.name}, {"moves", row.moves}, {"outside", row.outside}};
+    for (std::size_t p = 0; p < kErrorCount; ++p) {
+      o[kErrors[p].key] = {{"coverage_pct", number_or_null(row.coverage_pct[p])},
+                           {"mean_u95_um", number_or_null(row.mean_u95_um[p])}};
+    }
+    doc["rows"].push_back(o);
+  }
+  for (std::size_t p = 0; p < kErrorCount; ++p) {
+    doc["pooled_coverage_pct"][kErrors[p].key] = number_or_null(result.pooled_pct[p]);
+  }
+  return doc;
+}
+
+void add_verdict(Document& doc, const std::vector<Target>& targets, const Verdict& verdict) {
+  Document a = Document::array();
+  for (const Target& t : targets) {
+    a.push_back({{"name", t.name},
+                 {"measured", number_or_null(t.measured)},
+                 {"limit", t.limit},
+                 {"kind", t.kind == Target::Kind::kAtLeast ? "at least" : "at most"},
+                 {"unit", t.unit},
+                 {"met", t.met()},
+                 {"known_unmet", t.known_unmet}});
+  }
+  doc["targets"] = a;
+  doc["passed"] = verdict.passed;
+  doc["failures"] = verdict.failures;
+}
+
+std::string render_markdown(const Document& doc) {
+  const std::string experiment = field(doc, "experiment").get<std::string>();
+  std::string out;
+  if (doc.contains("command")) out += "`" + doc.at("command").get<std::string>() + "`\n\n";
+  if (experiment == "accuracy") {
+    out += render_accuracy(doc);
+  } else if (experiment == "cell-interpolant") {
+    out += render_cell_interpolant(doc);
+  } else if (experiment == "interval-coverage") {
+    out += render_interval_coverage(doc);
+  } else {
+    throw ConfigError(fmt::format("study document: unknown experiment \"{}\"", experiment));
+  }
+  const std::string verdict = render_verdict(doc);
+  return verdict.empty() ? out : out + "\n" + verdict;
+}
+
+std::string splice_block(const std::string& page, const Document& doc) {
+  const std::string name = block_name(doc);
+  const std::string start = "<!-- study: " + name + " -->\n";
+  const std::string end = "<!-- /study: " + name + " -->\n";
+  const auto at_line_start = [&](const std::string& marker, std::size_t from) {
+    for (std::size_t at = page.find(marker, from); at != std::string::npos;
+         at = page.find(marker, at + 1)) {
+      if (at == 0 || page[at - 1] == '\n') return at;
+    }
+    return std::string::npos;
+  };
+  const std::size_t a = at_line_start(start, 0);
+  const std::size_t b = a == std::string::npos ? a : at_line_start(end, a + start.size());
+  if (a == std::string::npos || b == std::string::npos) {
+    throw ConfigError(fmt::format(
+        "the page has no block \"{}\": put the lines `{}` and `{}` where its table belongs",
+        name,
+        start.substr(0, start.size() - 1),
+        end.substr(0, end.size() - 1)));
+  }
+  return page.substr(0, a + start.size()) + render_markdown(doc) + page.substr(b);
+}
+
+PageSync sync_page(const std::string& path, const Document& doc, bool update) {
+  const std::string page = io::read_file_bounded(path, "results page", std::uintmax_t{1} << 24);
+  const std::string now = splice_block(page, doc);
+  PageSync sync;
+  if (now == page) return sync;
+  sync.current = false;
+  std::size_t line_start = 0;
+  for (std::size_t i = 0; i < std::min(page.size(), now.size()) && page[i] == now[i]; ++i) {
+    if (page[i] == '\n') line_start = i + 1;
+  }
+  const auto line_at = [&](const std::string& text) {
+    const std::size_t e = text.find('\n', line_start);
+    return text.substr(line_start, e == std::string::npos ? std::string::npos : e - line_start);
+  };
+  sync.first_difference = "page: " + line_at(page) + "\nnow:  " + line_at(now);
+  if (update) io::write_file_atomically(path, now);
+  return sync;
+}
+
+std::string command_line(int argc, const char* const* argv) {
+  std::string out = "cmmcomp-study";
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--json" || arg == "--update-page" || arg.rfind("--page=", 0) == 0) continue;
+    if (arg == "--page") {
+      ++i;  // and its value
+      continue;
+    }
+    out += arg.find(' ') == std::string::npos ? " " + arg : " '" + arg + "'";
+  }
+  return out;
+}
+
+}  // namespace cmmcomp::study
