@@ -170,7 +170,12 @@ int run_render(const std::vector<std::string>& documents, const Output& out) {
   int status = 0;
   for (const std::string& path : documents) {
     const Document doc = Document::parse(
-        cmmcomp::io::read_file_bounded(path, "study document", std::uintmax_t{1} << 24));
+        cmmcomp::io::read_file_bounded(path, "study document", std::uintmax_t{1} << 24),
+        nullptr,
+        false);
+    if (doc.is_discarded()) {
+      throw cmmcomp::ConfigError(path + ": not JSON (expected an experiment's --json output)");
+    }
     const cmmcomp::study::PageSync sync = cmmcomp::study::sync_page(out.page, doc, out.update_page);
     if (!sync.current) {
       std::fprintf(stderr,
