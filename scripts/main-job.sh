@@ -12,12 +12,13 @@ mkdir -p "$out"
 bash scripts/install-deps.sh main
 cmake --preset release >/dev/null
 cmake --build --preset release --target cmmcomp-sim cmmcomp-train cmmcomp-agent cmmcomp-vc \
-  cmmcomp-measure cmmcomp-plan
+  cmmcomp-measure cmmcomp-plan cmmcomp-study
 sim="$here/build/release/tools/cmmcomp-sim/cmmcomp-sim"
 train="$here/build/release/tools/cmmcomp-train/cmmcomp-train"
 agent="$here/build/release/tools/cmmcomp-agent/cmmcomp-agent"
 vc="$here/build/release/tools/cmmcomp-vc/cmmcomp-vc"
 plan="$here/build/release/tools/cmmcomp-plan/cmmcomp-plan"
+study="$here/build/release/tools/cmmcomp-study/cmmcomp-study"
 
 echo
 echo "== 1. The paper's baseline probing move (PV 40, PA 200, PD 40, AV 12, AA 60, AD 10) =="
@@ -36,7 +37,11 @@ echo
 echo "== 4. Other machines: the real-machine workflow on the default and three perturbed twins =="
 echo "   (plan L18 x 3 -> recorded traces with tracker noise -> extract -> train -> test on LHS 270;"
 echo "    each machine's own model next to the default machine's model: docs/training.md)"
-bash scripts/cross-machine.sh "$out/cross-machine"
+"$study" cross-machine --machine default --machine data/machines/variant-mode-20.toml \
+  --machine data/machines/variant-drag+30.toml \
+  --machine data/machines/variant-y-participation+30.toml \
+  --dynamics-differ variant-mode-20 --dynamics-differ variant-drag+30 \
+  --shipped data/models/default.json --work "$out/cross-machine"
 echo
 echo "== 5. Length test at the planner's settings: the virtual controller asks cmmcomp-agent over =="
 echo "   Modbus TCP (cmmcomp-plan plans with the 5-input model for a point budget of"
@@ -47,10 +52,9 @@ bash tools/cmmcomp-plan/planned-length-test.sh --plan-bin "$plan" --agent-bin "$
 echo
 echo "== 6. The same speed-up on a qualified machine: with a reversal map and the probe qualified =="
 echo "   at each setting (as a real CMM), the twin judges a grid of settings over 5 seeds"
-echo "   (scripts/qualified-sweep.sh; the table: qualified-sweep.txt; docs/planner.md)"
-CMMCOMP_BIN="$here/build/release/tools" bash scripts/qualified-sweep.sh "$out/qualified-sweep" \
-  > "$out/qualified-sweep.txt"
-tail -n 3 "$out/qualified-sweep.txt"
+echo "   (cmmcomp-study qualified-sweep; the table: qualified-sweep.md; docs/planner.md)"
+"$study" qualified-sweep --model data/models/default-y.json > "$out/qualified-sweep.md"
+tail -n 6 "$out/qualified-sweep.md"
 # The same over SocketCAN where the User-Mode Linux runner works (vcan needs a CAN kernel).
 if bash scripts/uml-run.sh --timeout 60 -- true >/dev/null 2>&1; then
   echo

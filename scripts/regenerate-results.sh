@@ -35,4 +35,11 @@ run interval-coverage --model data/models/default.json --model-y data/models/def
   --variant data/machines/variant-drag+30.toml \
   --variant data/machines/variant-y-participation+30.toml \
   --known-unmet tests/data/interval-known-unmet.txt
+cross_machine=(--machine default --machine data/machines/variant-mode-20.toml
+  --machine data/machines/variant-drag+30.toml --machine data/machines/variant-y-participation+30.toml
+  --dynamics-differ variant-mode-20 --dynamics-differ variant-drag+30
+  --shipped data/models/default.json)
+run cross-machine "${cross_machine[@]}"
+run cross-machine "${cross_machine[@]}" --plan lhs162 --block cross-machine-lhs162
+run qualified-sweep --model data/models/default-y.json
 echo "regenerate-results: $page is current"

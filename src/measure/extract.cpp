@@ -9,8 +9,10 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/measure/extract.hpp>
+#include <cmmcomp/measure/twin_recording.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <cmmcomp/paper_reference.hpp>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -386,6 +388,26 @@ double detrended_sd(const std::vector<double>& t, const std::vector<double>& x) 
 }
 
 }  // namespace
+
+MoveRecording read_planned_recording(const std::string& dir, const PlannedMove& move) {
+  const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+  const std::string one = base + one_clock_file(move.move_id);
+  const std::string ctl = base + controller_file(move.move_id);
+  const std::string trk = base + tracker_file(move.move_id);
+  MoveRecording r;
+  r.move_id = move.move_id;
+  try {
+    if (std::filesystem::exists(one)) return read_move_recording(one, "", move.axis, move.move_id);
+    if (std::filesystem::exists(ctl) && std::filesystem::exists(trk)) {
+      return read_move_recording(ctl, trk, move.axis, move.move_id);
+    }
+    r.problem = "a stream is missing: no " + one_clock_file(move.move_id) + ", or not both " +
+                controller_file(move.move_id) + " and " + tracker_file(move.move_id);
+  } catch (const ConfigError& e) {
+    r.problem = std::string("unreadable recording: ") + e.what();
+  }
+  return r;
+}
 
 MoveRecording read_move_recording(const std::string& controller_path,
                                   const std::string& tracker_path,

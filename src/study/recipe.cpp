@@ -198,8 +198,10 @@ std::vector<DatasetRow> simulate_part(const Recipe& recipe,
                                       const dynamics::Machine& machine,
                                       const DatasetPart& part,
                                       int threads) {
+  // An empty `levels` is the documented default, Table 3's (a recipe built in code).
+  const std::string levels = recipe.levels.empty() ? doe::table3_levels_text() : recipe.levels;
   const doe::Design design = doe::replicate(
-      doe::design_from_text(part.design, recipe.levels, part.samples, part.seed), part.repeats);
+      doe::design_from_text(part.design, levels, part.samples, part.seed), part.repeats);
   dynamics::DatasetOptions options;
   options.noise.enabled = recipe.noise;
   options.noise.seed = part.seed;

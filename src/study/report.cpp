@@ -7,6 +7,7 @@
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/study/report.hpp>
+#include <limits>
 #include <string>
 
 namespace cmmcomp::study {
@@ -107,6 +108,82 @@ std::string render_interval_coverage(const Document& doc) {
   return out + "\n";
 }
 
+std::string render_cross_machine(const Document& doc) {
+  std::string out = fmt::format(
+      "Plan {}; the shipped model {}. Reduction % (mean \\|residual\\| µm) on 270 held-out "
+      "moves of each machine.\n\n",
+      field(doc, "plan").get<std::string>(),
+      field(doc, "shipped_model").get<std::string>());
+  out += "| machine | extracted";
+  std::string rule = "| --- | ---";
+  for (const char* who : {"own model", "shipped model"}) {
+    for (const auto& e : kErrors) {
+      out += fmt::format(" | {}: {}", who, e.label);
+      rule += " | ---";
+    }
+  }
+  out += " |\n" + rule + " |\n";
+  for (const Document& r : field(doc, "machines")) {
+    out += fmt::format("| {} | {}/{}",
+                       field(r, "machine").get<std::string>(),
+                       field(r, "extracted").get<std::size_t>(),
+                       field(r, "planned").get<std::size_t>());
+    for (const char* who : {"own", "shipped"}) {
+      for (const auto& e : kErrors) {
+        const Document& p = field(field(r, who), e.key);
+        out += fmt::format(
+            " | {} ({})", num(field(p, "reduction_pct"), 1), num(field(p, "mean_after_um"), 2));
+      }
+    }
+    out += " |\n";
+  }
+  return out;
+}
+
+std::string describe_setting(const Document& s) {
+  return fmt::format("{} s per point at PV {} mm/s, PD {} mm, AV {} mm/s, AD {} mm",
+                     num(field(s, "time_per_point_s"), 3),
+                     field(s, "pv_mm_s").get<double>(),
+                     field(s, "pd_mm").get<double>(),
+                     field(s, "av_mm_s").get<double>(),
+                     field(s, "ad_mm").get<double>());
+}
+
+std::string render_qualified_sweep(const Document& doc) {
+  const std::size_t seeds = field(doc, "seeds").size();
+  std::string out = fmt::format("Model {}, noise seeds {}; PA 200, AA 60 mm/s².\n\n",
+                                field(doc, "model").get<std::string>(),
+                                field(doc, "seeds").dump());
+  out +=
+      "| PV mm/s | PD mm | AV mm/s | AD mm | time per point s | qualified uncompensated | "
+      "compensated |\n| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const Document& s : field(doc, "settings")) {
+    out += fmt::format("| {} | {} | {} | {} | {} | {} of {} seeds pass | {} of {} seeds pass |\n",
+                       field(s, "pv_mm_s").get<double>(),
+                       field(s, "pd_mm").get<double>(),
+                       field(s, "av_mm_s").get<double>(),
+                       field(s, "ad_mm").get<double>(),
+                       num(field(s, "time_per_point_s"), 3),
+                       field(s, "uncompensated_passes").get<int>(),
+                       seeds,
+                       field(s, "compensated_passes").get<int>(),
+                       seeds);
+  }
+  const Document& unc = field(doc, "fastest_uncompensated");
+  const Document& comp = field(doc, "fastest_compensated");
+  out += "\nFastest qualified uncompensated setting that meets MPE_E (every Y, every seed): " +
+         (unc.is_null() ? std::string("none on the grid") : describe_setting(unc)) + ".\n";
+  out += "Fastest compensated setting that meets MPE_E (every Y, every seed): " +
+         (comp.is_null() ? std::string("none on the grid") : describe_setting(comp)) + ".\n";
+  if (!unc.is_null() && !comp.is_null()) {
+    out += fmt::format("Compensation takes **{}×** less time per point ({} s against {} s).\n",
+                       num(field(doc, "speedup"), 3),
+                       num(field(comp, "time_per_point_s"), 3),
+                       num(field(unc, "time_per_point_s"), 3));
+  }
+  return out;
+}
+
 std::string render_verdict(const Document& doc) {
   if (!doc.contains("targets")) return "";
   const Document& targets = field(doc, "targets");
@@ -197,6 +274,58 @@ Document interval_coverage_document(const CoverageResult& result) {
   return doc;
 }
 
+Document qualified_sweep_document(const SweepResult& result) {
+  Document doc;
+  doc["experiment"] = "qualified-sweep";
+  doc["model"] = result.model_id;
+  doc["seeds"] = result.seeds;
+  doc["settings"] = Document::array();
+  const auto setting = [](const SweepSetting& s) {
+    return Document{{"pv_mm_s", s.pv_mm_s},
+                    {"pd_mm", s.pd_mm},
+                    {"av_mm_s", s.av_mm_s},
+                    {"ad_mm", s.ad_mm},
+                    {"time_per_point_s", s.time_per_point_s},
+                    {"uncompensated_passes", s.uncompensated_passes},
+                    {"compensated_passes", s.compensated_passes}};
+  };
+  for (const SweepSetting& s : result.settings) doc["settings"].push_back(setting(s));
+  doc["fastest_uncompensated"] = result.fastest_uncompensated
+                                     ? setting(result.settings[*result.fastest_uncompensated])
+                                     : Document(nullptr);
+  doc["fastest_compensated"] = result.fastest_compensated
+                                   ? setting(result.settings[*result.fastest_compensated])
+                                   : Document(nullptr);
+  doc["speedup"] = number_or_null(result.speedup > 0 ? result.speedup
+                                                     : std::numeric_limits<double>::quiet_NaN());
+  return doc;
+}
+
+Document cross_machine_document(const CrossMachineResult& result) {
+  Document doc;
+  doc["experiment"] = "cross-machine";
+  doc["plan"] = result.plan;
+  doc["shipped_model"] = result.shipped_model_id;
+  doc["machines"] = Document::array();
+  const auto table = [](const training::TestSetEvaluation& e) {
+    Document t;
+    for (std::size_t p = 0; p < kErrorCount; ++p) {
+      t[kErrors[p].key] = {{"mean_before_um", e.table[p].mean_before},
+                           {"mean_after_um", e.table[p].mean_after},
+                           {"reduction_pct", e.table[p].reduction_pct}};
+    }
+    return t;
+  };
+  for (const CrossMachineRow& r : result.rows) {
+    doc["machines"].push_back({{"machine", r.machine},
+                               {"planned", r.planned},
+                               {"extracted", r.extracted},
+                               {"own", table(r.own)},
+                               {"shipped", table(r.shipped)}});
+  }
+  return doc;
+}
+
 void add_verdict(Document& doc, const std::vector<Target>& targets, const Verdict& verdict) {
   Document a = Document::array();
   for (const Target& t : targets) {
@@ -223,6 +352,10 @@ std::string render_markdown(const Document& doc) {
     out += render_cell_interpolant(doc);
   } else if (experiment == "interval-coverage") {
     out += render_interval_coverage(doc);
+  } else if (experiment == "cross-machine") {
+    out += render_cross_machine(doc);
+  } else if (experiment == "qualified-sweep") {
+    out += render_qualified_sweep(doc);
   } else {
     throw ConfigError(fmt::format("study document: unknown experiment \"{}\"", experiment));
   }

@@ -105,27 +105,6 @@ struct ExtractCommand {
   double timing_tolerance_ms = 10.0;
 };
 
-/// One move's files, or the reason they cannot be read (a malformed recording skips its move).
-measure::MoveRecording read_move(const std::string& dir, const measure::PlannedMove& m) {
-  const std::string one = dir + measure::one_clock_file(m.move_id);
-  const std::string ctl = dir + measure::controller_file(m.move_id);
-  const std::string trk = dir + measure::tracker_file(m.move_id);
-  measure::MoveRecording r;
-  r.move_id = m.move_id;
-  try {
-    if (std::filesystem::exists(one))
-      return measure::read_move_recording(one, "", m.axis, m.move_id);
-    if (std::filesystem::exists(ctl) && std::filesystem::exists(trk)) {
-      return measure::read_move_recording(ctl, trk, m.axis, m.move_id);
-    }
-    r.problem = "a stream is missing: no " + measure::one_clock_file(m.move_id) + ", or not both " +
-                measure::controller_file(m.move_id) + " and " + measure::tracker_file(m.move_id);
-  } catch (const cmmcomp::ConfigError& e) {
-    r.problem = std::string("unreadable recording: ") + e.what();
-  }
-  return r;
-}
-
 std::string seconds(double v) { return std::isnan(v) ? "-" : fmt::format("{:.3f} s", v); }
 
 int run_extract(ExtractCommand cmd) {
@@ -171,7 +150,9 @@ int run_extract(ExtractCommand cmd) {
     }
     std::printf("\n");
   } else {
-    for (const measure::PlannedMove& m : plan) recordings.push_back(read_move(dir, m));
+    for (const measure::PlannedMove& m : plan) {
+      recordings.push_back(measure::read_planned_recording(dir, m));
+    }
   }
   const measure::Extraction ex = measure::extract_moves(plan, recordings, cmd.options);
   const std::vector<cmmcomp::DatasetRow> rows = ex.rows();

@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
@@ -14,13 +16,17 @@
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/study/acceptance.hpp>
 #include <cmmcomp/study/accuracy.hpp>
+#include <cmmcomp/study/cross_machine.hpp>
 #include <cmmcomp/study/interval_coverage.hpp>
+#include <cmmcomp/study/qualified_sweep.hpp>
 #include <cmmcomp/study/recipe.hpp>
 #include <cmmcomp/study/report.hpp>
 #include <cmmcomp/study/train.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -165,6 +171,68 @@ int run_interval_coverage(const std::string& model,
   return finish(cmmcomp::study::interval_coverage_document(r), targets, out);
 }
 
+int run_qualified_sweep(const std::string& model,
+                        const std::string& machine,
+                        const std::vector<std::uint64_t>& seeds,
+                        const cmmcomp::study::SweepGrid& grid,
+                        const Output& out) {
+  const cmmcomp::dynamics::Machine m = machine.empty() ? cmmcomp::dynamics::default_machine()
+                                                       : cmmcomp::dynamics::load_machine(machine);
+  const cmmcomp::study::SweepResult r = cmmcomp::study::qualified_sweep(
+      cmmcomp::io::load_compensation_model(model), m, seeds, grid, run_options());
+  std::vector<Target> targets = r.targets;
+  return finish(cmmcomp::study::qualified_sweep_document(r), targets, out);
+}
+
+int run_cross_machine(const std::vector<std::string>& machines,
+                      const std::vector<std::string>& differ,
+                      const std::string& shipped,
+                      const std::string& plan,
+                      std::string work,
+                      const Output& out) {
+  cmmcomp::study::CampaignSetup setup;
+  std::smatch lhs;
+  if (std::regex_match(plan, lhs, std::regex("lhs([0-9]+)"))) {
+    setup.plan.design = "lhs";
+    setup.plan.lhs_samples = std::stoi(lhs[1]);
+    setup.plan.repeats = 1;
+  } else if (plan != "l18x3") {
+    throw cmmcomp::ConfigError("--plan takes l18x3 or lhsN (N moves), not '" + plan + "'");
+  }
+  std::vector<cmmcomp::study::StudyMachine> list;
+  for (const std::string& m : machines) {
+    cmmcomp::study::StudyMachine sm;
+    sm.path = m;
+    sm.name = m == "default" ? m : std::filesystem::path(m).stem().string();
+    sm.dynamics_differ = std::find(differ.begin(), differ.end(), sm.name) != differ.end();
+    list.push_back(sm);
+  }
+  for (const std::string& d : differ) {
+    if (std::none_of(list.begin(), list.end(), [&](const auto& m) { return m.name == d; })) {
+      throw cmmcomp::ConfigError("--dynamics-differ " + d + ": no --machine of that name");
+    }
+  }
+  // Without --work, a temporary folder that is removed afterwards.
+  const bool temporary = work.empty();
+  if (temporary) {
+    work = (std::filesystem::temp_directory_path() /
+            ("cmmcomp-cross-machine-" + std::to_string(::getpid())))
+               .string();
+  }
+  struct Remove {
+    bool on;
+    std::string dir;
+    ~Remove() {
+      std::error_code ec;
+      if (on) std::filesystem::remove_all(dir, ec);
+    }
+  } remove{temporary, work};
+  const cmmcomp::study::CrossMachineResult r = cmmcomp::study::cross_machine(
+      list, cmmcomp::io::load_compensation_model(shipped), setup, work, run_options());
+  std::vector<Target> targets = r.targets;
+  return finish(cmmcomp::study::cross_machine_document(r), targets, out);
+}
+
 /// Renders result documents (the JSON of `--json`) into the page's blocks.
 int run_render(const std::vector<std::string>& documents, const Output& out) {
   int status = 0;
@@ -259,6 +327,47 @@ int main(int argc, char** argv) {
   coverage->add_option("--variant", variants, "a machine file the model never saw, repeatable")
       ->check(CLI::ExistingFile);
   reporting(coverage);
+  std::vector<std::string> cm_machines, cm_differ;
+  std::string cm_shipped, cm_plan = "l18x3", cm_work;
+  CLI::App* cross = app.add_subcommand(
+      "cross-machine",
+      "the real-machine workflow on twins (plan, record, extract, fit, test), each machine's own "
+      "model next to the shipped one (docs/training.md, \"Other machines\")");
+  cross->add_option("--machine", cm_machines, "\"default\" or a machine file, repeatable")
+      ->required();
+  cross->add_option("--dynamics-differ",
+                    cm_differ,
+                    "a machine (its name: the file's stem) where the shipped model must lose, "
+                    "repeatable");
+  cross->add_option("--shipped", cm_shipped, "the shipped model to compare with")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cross->add_option("--plan", cm_plan, "l18x3 or lhsN (N Latin-hypercube moves)")
+      ->capture_default_str();
+  cross->add_option("--work", cm_work, "keep every file here (default: a temporary folder)");
+  reporting(cross);
+  std::string sweep_model, sweep_machine;
+  std::vector<std::uint64_t> sweep_seeds{1, 2, 3, 4, 5};
+  cmmcomp::study::SweepGrid grid;
+  CLI::App* sweep = app.add_subcommand(
+      "qualified-sweep",
+      "the length test's speed-up over a qualified machine: every setting of a grid, every seed, "
+      "the model served in process (docs/planner.md, \"The qualified reference\")");
+  sweep->add_option("--model", sweep_model, "the model (data/models/default-y.json)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sweep->add_option("--machine", sweep_machine, "machine file (default: the embedded machine)")
+      ->check(CLI::ExistingFile);
+  sweep->add_option("--seeds", sweep_seeds, "noise seeds")->delimiter(',')->capture_default_str();
+  sweep->add_option("--pv", grid.pv_mm_s, "PV values [mm/s]")
+      ->delimiter(',')
+      ->capture_default_str();
+  sweep->add_option("--pd", grid.pd_mm, "PD values [mm]")->delimiter(',')->capture_default_str();
+  sweep->add_option("--av", grid.av_mm_s, "AV values [mm/s]")
+      ->delimiter(',')
+      ->capture_default_str();
+  sweep->add_option("--ad", grid.ad_mm, "AD values [mm]")->delimiter(',')->capture_default_str();
+  reporting(sweep);
   std::vector<std::string> documents;
   CLI::App* render = app.add_subcommand(
       "render", "render result documents (--json output) into their blocks of a results page");
@@ -275,6 +384,12 @@ int main(int argc, char** argv) {
   try {
     if (accuracy->parsed()) return run_accuracy(recipes, out);
     if (cells->parsed()) return run_cell_interpolant(recipes, out);
+    if (cross->parsed()) {
+      return run_cross_machine(cm_machines, cm_differ, cm_shipped, cm_plan, cm_work, out);
+    }
+    if (sweep->parsed()) {
+      return run_qualified_sweep(sweep_model, sweep_machine, sweep_seeds, grid, out);
+    }
     if (render->parsed()) {
       out.update_page = render->count("--check") == 0;
       return run_render(documents, out);

@@ -3,11 +3,10 @@
 /// log.
 #pragma once
 
+#include <cmmcomp/vc/correction_source.hpp>
 #include <cstdint>
 #include <fstream>
 #include <string>
-
-#include "correction_source.hpp"
 
 namespace cmmcomp::vc {
 

@@ -8,6 +8,9 @@
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/plugins/can_server.hpp>
+#include <cmmcomp/vc/length_test.hpp>
+#include <cmmcomp/vc/per_y_source.hpp>
+#include <cmmcomp/vc/twin_probe.hpp>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -16,11 +19,8 @@
 #include "../common/usage.hpp"
 #include "agent_spec.hpp"
 #include "can_link.hpp"
-#include "length_test.hpp"
 #include "modbus_link.hpp"
-#include "per_y_source.hpp"
 #include "report.hpp"
-#include "twin_probe.hpp"
 
 namespace {
 

@@ -3,10 +3,9 @@
 /// recording relay.
 #pragma once
 
+#include <cmmcomp/vc/correction_source.hpp>
 #include <memory>
 #include <string>
-
-#include "correction_source.hpp"
 
 namespace cmmcomp::vc {
 

@@ -12,9 +12,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmmcomp/vc/correction_source.hpp>
 #include <cstring>
 
-#include "correction_source.hpp"
 #include "recording_format.hpp"
 
 namespace cmmcomp::vc {

@@ -2,10 +2,9 @@
 /// @file What the length test reports: the table, JSON, the point log (CSV) and the plots.
 #pragma once
 
+#include <cmmcomp/vc/length_test.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
-
-#include "length_test.hpp"
 
 namespace cmmcomp::vc {
 

@@ -43,6 +43,12 @@ MoveRecording read_move_recording(const std::string& controller_path,
                                   char axis,
                                   int move_id);
 
+/// One planned move's files in the recordings folder `dir` (docs/measurement.md, "Recordings":
+/// move-NNNN.csv, or move-NNNN.controller.csv and move-NNNN.tracker.csv), or a recording whose
+/// `problem` says why they cannot be read (a missing stream, a malformed file): a bad recording
+/// skips its move, never the campaign.
+MoveRecording read_planned_recording(const std::string& dir, const PlannedMove& move);
+
 /// The controller timing a move runs with is unknown when it is NaN: extraction measures it.
 inline constexpr double kUnknownTiming = std::numeric_limits<double>::quiet_NaN();
 

@@ -2,7 +2,7 @@
 /// @file The qualified reference: what an uncompensated CMM removes from a touch before it
 /// reports a point, a static reversal map over the carriage position and the probe qualified on a
 /// reference sphere (docs/planner.md, "The qualified reference"). The virtual controller measures
-/// it (tools/cmmcomp-vc/qualification.hpp); the planner judges an uncompensated setting by what
+/// it (cmmcomp/vc/qualification.hpp); the planner judges an uncompensated setting by what
 /// it leaves.
 ///
 /// Why: a touch lags by a quasi-static part (on the twin the hose's Coulomb drag: 3.6–7 µm per

@@ -17,7 +17,9 @@
 
 #include <cmmcomp/study/acceptance.hpp>
 #include <cmmcomp/study/accuracy.hpp>
+#include <cmmcomp/study/cross_machine.hpp>
 #include <cmmcomp/study/interval_coverage.hpp>
+#include <cmmcomp/study/qualified_sweep.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -31,6 +33,8 @@ using Document = nlohmann::ordered_json;
 Document accuracy_document(const std::vector<AccuracyResult>& results);
 Document cell_interpolant_document(const std::vector<CellInterpolantResult>& results);
 Document interval_coverage_document(const CoverageResult& result);
+Document qualified_sweep_document(const SweepResult& result);
+Document cross_machine_document(const CrossMachineResult& result);
 
 /// Adds the targets and check()'s verdict to `doc`.
 void add_verdict(Document& doc, const std::vector<Target>& targets, const Verdict& verdict);

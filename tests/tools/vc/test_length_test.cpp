@@ -5,15 +5,15 @@
 
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/vc/length_geometry.hpp>
+#include <cmmcomp/vc/length_test.hpp>
+#include <cmmcomp/vc/probe_setting.hpp>
+#include <cmmcomp/vc/qualification.hpp>
 #include <cstdint>
 #include <fstream>
 #include <string>
 #include <vector>
 
-#include "length_geometry.hpp"
-#include "length_test.hpp"
-#include "probe_setting.hpp"
-#include "qualification.hpp"
 #include "report.hpp"
 
 namespace cmmcomp::vc {

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/vc/correction_source.hpp>
+#include <cmmcomp/vc/per_y_source.hpp>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -17,10 +19,8 @@
 #include <vector>
 
 #include "agent_spec.hpp"
-#include "correction_source.hpp"
 #include "line_forms.hpp"
 #include "modbus_relay.hpp"
-#include "per_y_source.hpp"
 #include "recording_format.hpp"
 
 namespace cmmcomp::vc {

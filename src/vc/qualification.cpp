@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file Probe qualification and the static reversal map (qualification.hpp).
-#include "qualification.hpp"
-
 #include <algorithm>
 #include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/vc/qualification.hpp>
 
 namespace cmmcomp::vc {
 

@@ -22,11 +22,10 @@
 #pragma once
 
 #include <cmmcomp/planning/qualified_reference.hpp>
+#include <cmmcomp/vc/probe_setting.hpp>
+#include <cmmcomp/vc/twin_probe.hpp>
 #include <cstdint>
 #include <vector>
-
-#include "probe_setting.hpp"
-#include "twin_probe.hpp"
 
 namespace cmmcomp::vc {
 

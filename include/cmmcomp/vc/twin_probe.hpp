@@ -4,12 +4,11 @@
 
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/noise.hpp>
+#include <cmmcomp/vc/probe_setting.hpp>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <tuple>
-
-#include "probe_setting.hpp"
 
 namespace cmmcomp::vc {
 

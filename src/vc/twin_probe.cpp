@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file The twin as the virtual controller's machine.
-#include "twin_probe.hpp"
+#include <cmmcomp/vc/twin_probe.hpp>
 
 namespace cmmcomp::vc {
 

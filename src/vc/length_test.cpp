@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file The probing program and the evaluation of the length test.
-#include "length_test.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/vc/length_test.hpp>
 
 namespace cmmcomp::vc {
 

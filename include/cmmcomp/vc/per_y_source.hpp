@@ -3,13 +3,12 @@
 #pragma once
 
 #include <cmath>
+#include <cmmcomp/vc/correction_source.hpp>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include "correction_source.hpp"
 
 namespace cmmcomp::vc {
 

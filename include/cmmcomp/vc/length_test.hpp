@@ -2,17 +2,16 @@
 /// @file The length test at speed: runs the probing program and evaluates the length errors.
 #pragma once
 
+#include <cmmcomp/vc/correction_source.hpp>
+#include <cmmcomp/vc/length_geometry.hpp>
+#include <cmmcomp/vc/probe_setting.hpp>
+#include <cmmcomp/vc/qualification.hpp>
+#include <cmmcomp/vc/twin_probe.hpp>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include "correction_source.hpp"
-#include "length_geometry.hpp"
-#include "probe_setting.hpp"
-#include "qualification.hpp"
-#include "twin_probe.hpp"
 
 namespace cmmcomp::vc {
 

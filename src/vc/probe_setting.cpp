@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file Probing settings: defaults, parsing, and time per point.
-#include "probe_setting.hpp"
-
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/vc/probe_setting.hpp>
 #include <sstream>
 
 namespace cmmcomp::vc {
