@@ -4,7 +4,7 @@
 # docs/results.md carries (docs/study.md, "The results page") and rewrites those sections. Run
 # it from any folder after a change that moves a figure on purpose, then commit the page. The
 # ctests run the same commands with --page and fail when a section is stale, so a command here
-# must stay the ctest's (tests/tools/CMakeLists.txt). About 10 minutes on 2 cores.
+# must stay the ctest's (tests/tools/CMakeLists.txt). About 6 minutes on 2 cores.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$here/build/release}"
@@ -24,6 +24,8 @@ run() {  # run EXPERIMENT ARGS...: exit 1 (a target missed) still writes the sec
   fi
   [ "$status" = 0 ] || echo "regenerate-results: cmmcomp-study $1 misses a target (see the page)" >&2
 }
+run calibration --seeds 50 --seed 101 --known-unmet tests/data/calibration-known-unmet.txt
+run identify-multistart
 run accuracy --recipe data/recipes/paper-l18.toml --recipe data/recipes/default-y-model.toml \
   --known-unmet tests/data/accuracy-known-unmet.txt
 run cell-interpolant --recipe data/recipes/paper-l18.toml \

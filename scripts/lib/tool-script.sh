@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
-# Sourced by the scripts that drive the built tools (identify-multistart.sh,
-# interval-calibration-plot.sh, the live replay test): the tool check, the --check flag, the
-# work folder and starting an agent on a free port, once.
+# Sourced by the scripts that drive the built tools (interval-calibration-plot.sh, the live
+# replay test): the tool check, the --check flag, the work folder and starting an agent on a
+# free port, once.
 # require_tools SCRIPT TOOL...: exits 2 with a hint when a tool is not built.
 require_tools() {
   local script="$1"

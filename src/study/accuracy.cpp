@@ -43,10 +43,11 @@ std::string label_of(const Recipe& recipe, std::uint64_t train_seed, std::uint64
   return fmt::format("{} train {} test {}", recipe.name, train_seed, test_seed);
 }
 
-/// One test of a trained model file on `rows`.
-training::TestSetEvaluation evaluate(const io::CompensationModelFile& file,
-                                     const std::vector<DatasetRow>& rows,
-                                     const std::string& label) {
+}  // namespace
+
+training::TestSetEvaluation evaluate_model_file(const io::CompensationModelFile& file,
+                                                const std::vector<DatasetRow>& rows,
+                                                const std::string& label) {
   return std::visit(
       [&](const auto& f) {
         using Inputs = typename std::decay_t<decltype(f)>::InputSet;
@@ -54,8 +55,6 @@ training::TestSetEvaluation evaluate(const io::CompensationModelFile& file,
       },
       file);
 }
-
-}  // namespace
 
 AccuracyResult fit_and_test(const Recipe& recipe, const RunOptions& options) {
   AccuracyResult out;
@@ -84,7 +83,7 @@ AccuracyResult fit_and_test(const Recipe& recipe, const RunOptions& options) {
     t.train_seed = train_seed;
     t.test_seed = test_seed;
     t.train_samples = networks.at(train_seed).samples;
-    t.evaluation = evaluate(networks.at(train_seed).file, rows, t.label);
+    t.evaluation = evaluate_model_file(networks.at(train_seed).file, rows, t.label);
     say(t.label + ": tested on " + std::to_string(rows.size()) + " moves");
     for (Target& target : table5_targets(t.label + ": ",
                                          t.evaluation.table,

@@ -12,23 +12,10 @@
 #include <cmmcomp/study/cross_machine.hpp>
 #include <cmmcomp/study/train.hpp>
 #include <filesystem>
-#include <type_traits>
-#include <variant>
 
 namespace cmmcomp::study {
 
 namespace {
-
-training::TestSetEvaluation evaluate(const io::CompensationModelFile& file,
-                                     const std::vector<DatasetRow>& rows,
-                                     const std::string& label) {
-  return std::visit(
-      [&](const auto& f) {
-        using Inputs = typename std::decay_t<decltype(f)>::InputSet;
-        return training::evaluate_test_set<Inputs>(f.model, f.interval, rows, label);
-      },
-      file);
-}
 
 /// The recipe that stands for one machine's campaign: its machine, Table 1 noise on the test
 /// moves, the paper's four inputs, the fit's seed.
@@ -110,8 +97,8 @@ CrossMachineResult cross_machine(const std::vector<StudyMachine>& machines,
     row.machine = m.name;
     row.planned = plan.size();
     row.extracted = rows.size();
-    row.own = evaluate(own.file, test, m.name + " own");
-    row.shipped = evaluate(shipped, test, m.name + " shipped");
+    row.own = evaluate_model_file(own.file, test, m.name + " own");
+    row.shipped = evaluate_model_file(shipped, test, m.name + " shipped");
     for (std::size_t p = 0; p < kErrorCount; ++p) {
       out.targets.push_back({m.name + ": own " + kErrors[p].key + "_reduction",
                              row.own.table[p].reduction_pct,

@@ -17,12 +17,7 @@ constexpr double kHighestPct = 98.0;  ///< 95 + 3: nor is it needlessly wide
 CoverageRow row_of(const std::string& name,
                    const io::CompensationModelFile& model,
                    const std::vector<DatasetRow>& rows) {
-  const training::TestSetEvaluation e = std::visit(
-      [&](const auto& f) {
-        using Inputs = typename std::decay_t<decltype(f)>::InputSet;
-        return training::evaluate_test_set<Inputs>(f.model, f.interval, rows, name);
-      },
-      model);
+  const training::TestSetEvaluation e = evaluate_model_file(model, rows, name);
   CoverageRow r;
   r.name = name;
   r.moves = e.samples;

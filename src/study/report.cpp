@@ -33,6 +33,14 @@ std::string num(const Document& v, int decimals) {
   return fmt::format("{:.{}f}", v.get<double>(), decimals);
 }
 
+/// Free text for a Markdown table cell: a `|` would end the cell.
+std::string cell(std::string text) {
+  for (std::size_t at = text.find('|'); at != std::string::npos; at = text.find('|', at + 2)) {
+    text.insert(at, "\\");
+  }
+  return text;
+}
+
 std::string table_header(const std::string& first, const std::string& per_parameter) {
   std::string head = "| " + first;
   std::string rule = "| ---";
@@ -51,7 +59,7 @@ std::string render_accuracy(const Document& doc) {
                                  "mean before → after µm (reduction %, coverage %)");
   for (const Document& t : field(doc, "tests")) {
     out += fmt::format("| {} | {} / {} | {}",
-                       field(t, "label").get<std::string>(),
+                       cell(field(t, "label").get<std::string>()),
                        field(t, "train_samples").get<std::size_t>(),
                        field(t, "test_samples").get<std::size_t>(),
                        field(t, "outside").get<std::size_t>());
@@ -74,7 +82,7 @@ std::string render_cell_interpolant(const Document& doc) {
       "| --- | --- | --- | --- |\n";
   for (const Document& t : field(doc, "tests")) {
     out += fmt::format("| {} | {} | {} | {} |\n",
-                       field(t, "label").get<std::string>(),
+                       cell(field(t, "label").get<std::string>()),
                        num(field(t, "rpe_mean_before_um"), 3),
                        num(field(t, "rpe_mean_after_um"), 3),
                        num(field(t, "rpe_reduction_pct"), 1));
@@ -89,7 +97,7 @@ std::string render_interval_coverage(const Document& doc) {
   out += table_header("test set | moves | outside domain", "coverage % (mean U95 µm)");
   for (const Document& r : field(doc, "rows")) {
     out += fmt::format("| {} | {} | {}",
-                       field(r, "name").get<std::string>(),
+                       cell(field(r, "name").get<std::string>()),
                        field(r, "moves").get<std::size_t>(),
                        field(r, "outside").get<std::size_t>());
     for (const auto& e : kErrors) {
@@ -106,6 +114,72 @@ std::string render_interval_coverage(const Document& doc) {
         " {} {} %{}", e.label, num(field(pooled, e.key), 1), &e == &kErrors.back() ? "." : ",");
   }
   return out + "\n";
+}
+
+std::string render_calibration(const Document& doc) {
+  const int seeds = field(doc, "seeds").get<int>();
+  const auto seed = field(doc, "seed").get<std::uint64_t>();
+  std::string out = fmt::format(
+      "Machine {}; noise seeds {} … {}; a requirement must hold for {} of {}.\n\n"
+      "The comparison at seed {} (model, paper in brackets):\n\n```text\n{}```\n",
+      field(doc, "machine").get<std::string>(),
+      seed,
+      seed + static_cast<std::uint64_t>(seeds) - 1,
+      field(doc, "needed").get<int>(),
+      seeds,
+      seed,
+      field(doc, "comparison").get<std::string>());
+  std::string rows;
+  for (const Document& t : field(doc, "targets")) {
+    if (field(t, "measured").get<double>() < seeds) {
+      rows += fmt::format("| {} | {} of {} |\n",
+                          cell(field(t, "name").get<std::string>()),
+                          field(t, "measured").get<double>(),
+                          seeds);
+    }
+  }
+  if (!rows.empty()) {
+    out +=
+        "\nThe requirements that did not hold for every seed:\n\n| requirement | held for |\n"
+        "| --- | --- |\n" +
+        rows;
+  }
+  return out;
+}
+
+std::string render_identify_multistart(const Document& doc) {
+  std::string out =
+      "| start | cost start → final | fit s | fitted (* at a plausible bound) | requirements "
+      "held |\n| --- | --- | --- | --- | --- |\n";
+  const Document& names = field(doc, "free_parameters");
+  for (const Document& r : field(doc, "starts")) {
+    const std::string failure = field(r, "failure").get<std::string>();
+    if (!failure.empty()) {
+      out +=
+          fmt::format("| {} | failed: {} | | | |\n", field(r, "start").get<int>(), cell(failure));
+      continue;
+    }
+    std::string fitted;
+    const Document& values = field(r, "fitted_values");
+    const Document& bound = field(r, "at_bound");
+    for (std::size_t i = 0; i < values.size() && i < names.size(); ++i) {
+      const std::string key = names[i].get<std::string>();
+      fitted += fmt::format("{}{} {:.4g}{}",
+                            i == 0 ? "" : ", ",
+                            key.substr(key.find('.') + 1),
+                            values[i].get<double>(),
+                            i < bound.size() && bound[i].get<int>() != 0 ? "*" : "");
+    }
+    out += fmt::format("| {} | {:.4g} → {:.4g} | {:.1f} | {} | {} of {} |\n",
+                       field(r, "start").get<int>(),
+                       field(r, "initial_cost").get<double>(),
+                       field(r, "final_cost").get<double>(),
+                       field(r, "seconds").get<double>(),
+                       fitted,
+                       field(r, "held").get<int>(),
+                       field(r, "requirements").get<int>());
+  }
+  return out;
 }
 
 std::string render_cross_machine(const Document& doc) {
@@ -125,7 +199,7 @@ std::string render_cross_machine(const Document& doc) {
   out += " |\n" + rule + " |\n";
   for (const Document& r : field(doc, "machines")) {
     out += fmt::format("| {} | {}/{}",
-                       field(r, "machine").get<std::string>(),
+                       cell(field(r, "machine").get<std::string>()),
                        field(r, "extracted").get<std::size_t>(),
                        field(r, "planned").get<std::size_t>());
     for (const char* who : {"own", "shipped"}) {
@@ -187,6 +261,7 @@ std::string render_qualified_sweep(const Document& doc) {
 std::string render_verdict(const Document& doc) {
   if (!doc.contains("targets")) return "";
   const Document& targets = field(doc, "targets");
+  if (targets.empty() && field(doc, "failures").empty()) return "A measurement: no targets.\n";
   std::string known;
   for (const Document& t : targets) {
     if (t.value("known_unmet", false) && !t.value("met", false)) {
@@ -301,6 +376,37 @@ Document qualified_sweep_document(const SweepResult& result) {
   return doc;
 }
 
+Document calibration_document(const CalibrationResult& result) {
+  Document doc;
+  doc["experiment"] = "calibration";
+  doc["machine"] = result.machine;
+  doc["seed"] = result.seed;
+  doc["seeds"] = result.seeds;
+  doc["needed"] = result.needed;
+  doc["comparison"] = dynamics::format_paper_comparison(result.first);
+  return doc;
+}
+
+Document identify_multistart_document(const MultistartResult& result) {
+  Document doc;
+  doc["experiment"] = "identify-multistart";
+  doc["free_parameters"] = result.free_parameters;
+  doc["starts"] = Document::array();
+  for (const MultistartRow& r : result.rows) {
+    doc["starts"].push_back({{"start", r.start},
+                             {"failure", r.failure},
+                             {"initial_cost", r.initial_cost},
+                             {"final_cost", r.final_cost},
+                             {"seconds", r.seconds},
+                             {"start_values", r.start_values},
+                             {"fitted_values", r.fitted_values},
+                             {"at_bound", r.at_bound},
+                             {"requirements", r.requirements},
+                             {"held", r.held}});
+  }
+  return doc;
+}
+
 Document cross_machine_document(const CrossMachineResult& result) {
   Document doc;
   doc["experiment"] = "cross-machine";
@@ -352,6 +458,10 @@ std::string render_markdown(const Document& doc) {
     out += render_cell_interpolant(doc);
   } else if (experiment == "interval-coverage") {
     out += render_interval_coverage(doc);
+  } else if (experiment == "calibration") {
+    out += render_calibration(doc);
+  } else if (experiment == "identify-multistart") {
+    out += render_identify_multistart(doc);
   } else if (experiment == "cross-machine") {
     out += render_cross_machine(doc);
   } else if (experiment == "qualified-sweep") {

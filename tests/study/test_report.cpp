@@ -71,6 +71,13 @@ TEST(StudyReport, RendersTheTableTheCommandAndTheVerdict) {
   EXPECT_EQ(columns, 8u);
 }
 
+TEST(StudyReport, APipeInATableCellIsEscaped) {
+  CoverageResult r = two_rows();
+  r.rows[0].name = "mean |MAE| before";
+  const std::string md = render_markdown(judged(r, {"pooled: rpe over-covers"}));
+  EXPECT_NE(md.find("| mean \\|MAE\\| before | 270 |"), std::string::npos) << md;
+}
+
 TEST(StudyReport, TheDocumentRoundTripsThroughJson) {
   const Document doc = judged(two_rows(), {"pooled: rpe over-covers"});
   const Document back = Document::parse(doc.dump());

@@ -405,96 +405,14 @@ int run_identify(const IdentifyCommand& cmd) {
   return 0;
 }
 
-/// Requirement texts, one per line ('#' starts a comment), from a known-unmet list.
-std::vector<std::string> read_requirement_list(const std::string& path) {
-  std::vector<std::string> list;
-  if (path.empty()) return list;
-  std::ifstream in(path);
-  if (!in) throw cmmcomp::Error(path + ": cannot open the known-unmet list");
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    list.push_back(line);
-  }
-  return list;
-}
-
-int run_paper(const std::string& machine_path,
-              std::uint64_t seed,
-              int seeds,
-              bool check,
-              const std::string& known_unmet_path) {
-  const std::vector<std::string> known_unmet = read_requirement_list(known_unmet_path);
-  using namespace cmmcomp::dynamics;
-  const Machine machine = machine_from(machine_path);
+/// The machine next to the paper for one noise seed; exit 1 with --check when a requirement fails
+/// at it. The verdict over many seeds, with a known-unmet list, is `cmmcomp-study calibration`.
+int run_paper(const std::string& machine_path, std::uint64_t seed, bool check) {
+  const cmmcomp::dynamics::Machine machine = machine_from(machine_path);
   std::printf("machine: %s (%s)\n\n", machine.name.c_str(), machine.description.c_str());
-  // The noiseless simulations are shared by every seed; only the noise differs.
-  const PaperSimulations sims = simulate_paper_experiments(machine);
-  std::vector<int> held;
-  std::vector<std::string> names;
-  for (int k = 0; k < seeds; ++k) {
-    const std::uint64_t s = seed + static_cast<std::uint64_t>(k);
-    const PaperComparison c = compare_with_paper(sims, s);
-    if (k == 0) {
-      std::fputs(format_paper_comparison(c).c_str(), stdout);
-      held.assign(c.checks.size(), 0);
-      for (const PaperCheck& chk : c.checks) names.push_back(chk.requirement);
-    }
-    for (std::size_t i = 0; i < c.checks.size(); ++i) {
-      if (c.checks[i].passed) {
-        ++held[i];
-      } else if (k > 0) {
-        std::printf("seed %llu: FAIL %s: %s\n",
-                    static_cast<unsigned long long>(s),
-                    c.checks[i].requirement.c_str(),
-                    c.checks[i].measured.c_str());
-      }
-    }
-  }
-  // Robust: every requirement holds for all but one in 50 seeds (49 of 50).
-  const int allowed = seeds / 50;
-  const auto is_known = [&known_unmet](const std::string& name) {
-    return std::find(known_unmet.begin(), known_unmet.end(), name) != known_unmet.end();
-  };
-  bool all = true;
-  int weakest = seeds;
-  for (std::size_t i = 0; i < held.size(); ++i) {
-    if (is_known(names[i])) continue;
-    all = all && held[i] >= seeds - allowed;
-    weakest = std::min(weakest, held[i]);
-  }
-  std::printf(
-      "\n%d noise seed(s) from %llu (Table 4 medians over seeds s .. s+19): the weakest "
-      "requirement held for %d of %d (needed: %d): %s\n",
-      seeds,
-      static_cast<unsigned long long>(seed),
-      weakest,
-      seeds,
-      seeds - allowed,
-      all ? "met" : "NOT met");
-  for (std::size_t i = 0; i < held.size(); ++i) {
-    if (held[i] < seeds && !is_known(names[i])) {
-      std::printf("  %s: %d of %d\n", names[i].c_str(), held[i], seeds);
-    }
-  }
-  // A known-unmet requirement must really be unmet: a list that outlives its reason fails too.
-  for (const std::string& name : known_unmet) {
-    const auto it = std::find(names.begin(), names.end(), name);
-    if (it == names.end()) {
-      std::printf("known-unmet list names no requirement: '%s'\n", name.c_str());
-      all = false;
-      continue;
-    }
-    const int h = held[static_cast<std::size_t>(it - names.begin())];
-    const bool unmet = h < seeds - allowed;
-    std::printf("  known unmet (%s): %s: held for %d of %d\n",
-                unmet ? "still unmet" : "NOW MET: remove it from the list",
-                name.c_str(),
-                h,
-                seeds);
-    all = all && unmet;
-  }
-  return check && !all ? 1 : 0;
+  const cmmcomp::dynamics::PaperComparison c = cmmcomp::dynamics::compare_with_paper(machine, seed);
+  std::fputs(cmmcomp::dynamics::format_paper_comparison(c).c_str(), stdout);
+  return check && !c.all_passed() ? 1 : 0;
 }
 
 }  // namespace
@@ -652,22 +570,14 @@ int main(int argc, char** argv) {
 
   std::string paper_machine;
   std::uint64_t paper_seed = 1;
-  int paper_seeds = 1;
   bool paper_check = false;
   CLI::App* paper = app.add_subcommand(
       "paper",
-      "compare a machine with the paper's Tables 1, 2, 4 and 5 and the smoothness requirement");
+      "compare a machine with the paper's Tables 1, 2, 4 and 5 and the smoothness requirement at "
+      "one noise seed (over many seeds: cmmcomp-study calibration)");
   paper->add_option("--machine", paper_machine, "machine file (default: embedded)");
-  paper->add_option("--seed", paper_seed, "first noise seed")->capture_default_str();
-  paper->add_option("--seeds", paper_seeds, "noise seeds to check")
-      ->check(CLI::Range(1, 10000))
-      ->capture_default_str();
-  paper->add_flag("--check", paper_check, "exit 1 when a requirement fails");
-  std::string paper_known_unmet;
-  paper->add_option("--known-unmet",
-                    paper_known_unmet,
-                    "file of requirements known to be unmet (one per line): --check then "
-                    "requires them to be unmet and every other one met");
+  paper->add_option("--seed", paper_seed, "noise seed")->capture_default_str();
+  paper->add_flag("--check", paper_check, "exit 1 when a requirement fails at this seed");
 
   try {
     app.parse(argc, argv);
@@ -708,8 +618,7 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
-    if (paper->parsed())
-      return run_paper(paper_machine, paper_seed, paper_seeds, paper_check, paper_known_unmet);
+    if (paper->parsed()) return run_paper(paper_machine, paper_seed, paper_check);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cmmcomp-sim: %s\n", e.what());
     return 1;

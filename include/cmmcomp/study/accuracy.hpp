@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <cmmcomp/io/compensation_model_file.hpp>
 #include <cmmcomp/schema.hpp>
 #include <cmmcomp/study/acceptance.hpp>
 #include <cmmcomp/study/recipe.hpp>
@@ -35,6 +36,12 @@ struct AccuracyResult {
   std::vector<AccuracyTest> tests;
   std::vector<Target> targets;
 };
+
+/// One test of a model file on `rows`: training::evaluate_test_set over whichever input set the
+/// file has (what `cmmcomp-train eval` computes).
+training::TestSetEvaluation evaluate_model_file(const io::CompensationModelFile& file,
+                                                const std::vector<DatasetRow>& rows,
+                                                const std::string& label);
 
 /// Options of an experiment run.
 struct RunOptions {

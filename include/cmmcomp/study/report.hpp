@@ -17,7 +17,9 @@
 
 #include <cmmcomp/study/acceptance.hpp>
 #include <cmmcomp/study/accuracy.hpp>
+#include <cmmcomp/study/calibration.hpp>
 #include <cmmcomp/study/cross_machine.hpp>
+#include <cmmcomp/study/identify_multistart.hpp>
 #include <cmmcomp/study/interval_coverage.hpp>
 #include <cmmcomp/study/qualified_sweep.hpp>
 #include <nlohmann/json.hpp>
@@ -35,6 +37,8 @@ Document cell_interpolant_document(const std::vector<CellInterpolantResult>& res
 Document interval_coverage_document(const CoverageResult& result);
 Document qualified_sweep_document(const SweepResult& result);
 Document cross_machine_document(const CrossMachineResult& result);
+Document calibration_document(const CalibrationResult& result);
+Document identify_multistart_document(const MultistartResult& result);
 
 /// Adds the targets and check()'s verdict to `doc`.
 void add_verdict(Document& doc, const std::vector<Target>& targets, const Verdict& verdict);
