@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cmmcomp/io/file_io.hpp>
@@ -107,9 +108,13 @@ CrossMachineResult cross_machine(const std::vector<StudyMachine>& machines,
                              "%"});
     }
     if (m.dynamics_differ) {
-      double worst = 0;  // the largest ratio shipped / own mean residual over the parameters
+      // The largest ratio shipped / own mean residual over the parameters whose own residual is
+      // a positive number (a zero residual has no ratio).
+      double worst = 0;
       for (std::size_t p = 0; p < kErrorCount; ++p) {
-        worst = std::max(worst, row.shipped.table[p].mean_after / row.own.table[p].mean_after);
+        const double own_um = row.own.table[p].mean_after;
+        const double ratio = row.shipped.table[p].mean_after / own_um;
+        if (own_um > 0 && std::isfinite(ratio)) worst = std::max(worst, ratio);
       }
       out.targets.push_back(
           {m.name + ": shipped model loses", worst, 1.5, Target::Kind::kAtLeast, "x"});

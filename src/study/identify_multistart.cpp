@@ -37,6 +37,12 @@ MultistartResult identify_multistart(const dynamics::Machine& start,
   if (options.free_parameters.empty()) {
     throw ConfigError("identify-multistart: name the free parameters (--free)");
   }
+  if (plan.calibration_seeds < 1) {
+    throw ConfigError("identify-multistart: --calibration-seeds must be at least 1");
+  }
+  // Options every start would refuse: refused once, before minutes of fitting.
+  std::string why;
+  if (!options.is_valid(&why)) throw ConfigError("identify-multistart: " + why);
   const auto& table = dynamics::machine_parameter_table();
   std::vector<const dynamics::ParameterInfo<dynamics::MachineParameters>*> free;
   for (const std::string& name : options.free_parameters) {

@@ -29,12 +29,13 @@ const Document& field(const Document& doc, const char* key) {
 /// A number with `decimals`, or "—" for null (a figure that does not exist, e.g. the coverage of a
 /// model without an interval).
 std::string num(const Document& v, int decimals) {
-  if (!v.is_number()) return "—";
+  if (!v.is_number() || !std::isfinite(v.get<double>())) return "—";
   return fmt::format("{:.{}f}", v.get<double>(), decimals);
 }
 
 /// Free text for a Markdown table cell: a `|` would end the cell.
 std::string cell(std::string text) {
+  for (char& c : text) c = c == '\n' || c == '\r' ? ' ' : c;  // a line break would end the row
   for (std::size_t at = text.find('|'); at != std::string::npos; at = text.find('|', at + 2)) {
     text.insert(at, "\\");
   }
@@ -48,7 +49,8 @@ std::string table_header(const std::string& first, const std::string& per_parame
       std::count(first.begin(), first.end(), '|'));  // columns the caller added
   for (std::size_t i = 0; i < extra; ++i) rule += " | ---";
   for (const auto& e : kErrors) {
-    head += fmt::format(" | {} {}", e.label, per_parameter);
+    head += per_parameter.empty() ? fmt::format(" | {}", e.label)
+                                  : fmt::format(" | {} {}", e.label, per_parameter);
     rule += " | ---";
   }
   return head + " |\n" + rule + " |\n";
@@ -147,6 +149,12 @@ std::string render_calibration(const Document& doc) {
   return out;
 }
 
+/// A number to 4 significant digits, or "—".
+std::string g4(const Document& v) {
+  return v.is_number() && std::isfinite(v.get<double>()) ? fmt::format("{:.4g}", v.get<double>())
+                                                         : std::string("—");
+}
+
 std::string render_identify_multistart(const Document& doc) {
   std::string out =
       "| start | cost start → final | fit s | fitted (* at a plausible bound) | requirements "
@@ -164,17 +172,17 @@ std::string render_identify_multistart(const Document& doc) {
     const Document& bound = field(r, "at_bound");
     for (std::size_t i = 0; i < values.size() && i < names.size(); ++i) {
       const std::string key = names[i].get<std::string>();
-      fitted += fmt::format("{}{} {:.4g}{}",
+      fitted += fmt::format("{}{} {}{}",
                             i == 0 ? "" : ", ",
                             key.substr(key.find('.') + 1),
-                            values[i].get<double>(),
+                            g4(values[i]),
                             i < bound.size() && bound[i].get<int>() != 0 ? "*" : "");
     }
-    out += fmt::format("| {} | {:.4g} → {:.4g} | {:.1f} | {} | {} of {} |\n",
+    out += fmt::format("| {} | {} → {} | {} | {} | {} of {} |\n",
                        field(r, "start").get<int>(),
-                       field(r, "initial_cost").get<double>(),
-                       field(r, "final_cost").get<double>(),
-                       field(r, "seconds").get<double>(),
+                       g4(field(r, "initial_cost")),
+                       g4(field(r, "final_cost")),
+                       num(field(r, "seconds"), 1),
                        fitted,
                        field(r, "held").get<int>(),
                        field(r, "requirements").get<int>());
@@ -182,12 +190,28 @@ std::string render_identify_multistart(const Document& doc) {
   return out;
 }
 
+std::string render_interval_calibration(const Document& doc) {
+  std::string out = fmt::format(
+      "Recipe {}; empirical coverage % on {} held-out moves, the network retrained at each "
+      "nominal coverage.\n\n",
+      field(doc, "recipe").get<std::string>(),
+      field(doc, "test_moves").get<std::size_t>());
+  out += table_header("nominal %", "");
+  for (const Document& r : field(doc, "levels")) {
+    out += fmt::format("| {:g}", field(r, "nominal_pct").get<double>());
+    for (const auto& e : kErrors) out += " | " + num(field(r, e.key), 1);
+    out += " |\n";
+  }
+  return out;
+}
+
 std::string render_cross_machine(const Document& doc) {
   std::string out = fmt::format(
-      "Plan {}; the shipped model {}. Reduction % (mean \\|residual\\| µm) on 270 held-out "
+      "Plan {}; the shipped model {}. Reduction % (mean \\|residual\\| µm) on {} held-out "
       "moves of each machine.\n\n",
       field(doc, "plan").get<std::string>(),
-      field(doc, "shipped_model").get<std::string>());
+      field(doc, "shipped_model").get<std::string>(),
+      field(doc, "test_moves").get<std::size_t>());
   out += "| machine | extracted";
   std::string rule = "| --- | ---";
   for (const char* who : {"own model", "shipped model"}) {
@@ -302,9 +326,9 @@ Document accuracy_document(const std::vector<AccuracyResult>& results) {
                     {"outside", t.evaluation.outside}};
       for (std::size_t p = 0; p < kErrorCount; ++p) {
         const auto& row = t.evaluation.table[p];
-        test[kErrors[p].key] = {{"mean_before_um", row.mean_before},
-                                {"mean_after_um", row.mean_after},
-                                {"reduction_pct", row.reduction_pct},
+        test[kErrors[p].key] = {{"mean_before_um", number_or_null(row.mean_before)},
+                                {"mean_after_um", number_or_null(row.mean_after)},
+                                {"reduction_pct", number_or_null(row.reduction_pct)},
                                 {"coverage_pct", number_or_null(t.evaluation.coverage_pct[p])}};
       }
       doc["tests"].push_back(test);
@@ -321,9 +345,9 @@ Document cell_interpolant_document(const std::vector<CellInterpolantResult>& res
     for (const CellInterpolantTest& t : r.tests) {
       doc["tests"].push_back({{"label", t.label},
                               {"recipe", r.recipe},
-                              {"rpe_mean_before_um", t.mean_before_um},
-                              {"rpe_mean_after_um", t.mean_after_um},
-                              {"rpe_reduction_pct", t.reduction_pct}});
+                              {"rpe_mean_before_um", number_or_null(t.mean_before_um)},
+                              {"rpe_mean_after_um", number_or_null(t.mean_after_um)},
+                              {"rpe_reduction_pct", number_or_null(t.reduction_pct)}});
     }
   }
   return doc;
@@ -360,7 +384,7 @@ Document qualified_sweep_document(const SweepResult& result) {
                     {"pd_mm", s.pd_mm},
                     {"av_mm_s", s.av_mm_s},
                     {"ad_mm", s.ad_mm},
-                    {"time_per_point_s", s.time_per_point_s},
+                    {"time_per_point_s", number_or_null(s.time_per_point_s)},
                     {"uncompensated_passes", s.uncompensated_passes},
                     {"compensated_passes", s.compensated_passes}};
   };
@@ -395,9 +419,9 @@ Document identify_multistart_document(const MultistartResult& result) {
   for (const MultistartRow& r : result.rows) {
     doc["starts"].push_back({{"start", r.start},
                              {"failure", r.failure},
-                             {"initial_cost", r.initial_cost},
-                             {"final_cost", r.final_cost},
-                             {"seconds", r.seconds},
+                             {"initial_cost", number_or_null(r.initial_cost)},
+                             {"final_cost", number_or_null(r.final_cost)},
+                             {"seconds", number_or_null(r.seconds)},
                              {"start_values", r.start_values},
                              {"fitted_values", r.fitted_values},
                              {"at_bound", r.at_bound},
@@ -407,18 +431,35 @@ Document identify_multistart_document(const MultistartResult& result) {
   return doc;
 }
 
+Document interval_calibration_document(const IntervalCalibrationResult& result) {
+  Document doc;
+  doc["experiment"] = "interval-calibration";
+  doc["recipe"] = result.recipe;
+  doc["test_moves"] = result.test_moves;
+  doc["levels"] = Document::array();
+  for (const IntervalCalibrationRow& r : result.rows) {
+    Document row{{"nominal_pct", r.nominal_pct}};
+    for (std::size_t p = 0; p < kErrorCount; ++p) {
+      row[kErrors[p].key] = number_or_null(r.coverage_pct[p]);
+    }
+    doc["levels"].push_back(row);
+  }
+  return doc;
+}
+
 Document cross_machine_document(const CrossMachineResult& result) {
   Document doc;
   doc["experiment"] = "cross-machine";
   doc["plan"] = result.plan;
   doc["shipped_model"] = result.shipped_model_id;
+  doc["test_moves"] = result.rows.empty() ? 0 : result.rows.front().own.samples;
   doc["machines"] = Document::array();
   const auto table = [](const training::TestSetEvaluation& e) {
     Document t;
     for (std::size_t p = 0; p < kErrorCount; ++p) {
-      t[kErrors[p].key] = {{"mean_before_um", e.table[p].mean_before},
-                           {"mean_after_um", e.table[p].mean_after},
-                           {"reduction_pct", e.table[p].reduction_pct}};
+      t[kErrors[p].key] = {{"mean_before_um", number_or_null(e.table[p].mean_before)},
+                           {"mean_after_um", number_or_null(e.table[p].mean_after)},
+                           {"reduction_pct", number_or_null(e.table[p].reduction_pct)}};
     }
     return t;
   };
@@ -462,6 +503,8 @@ std::string render_markdown(const Document& doc) {
     out += render_calibration(doc);
   } else if (experiment == "identify-multistart") {
     out += render_identify_multistart(doc);
+  } else if (experiment == "interval-calibration") {
+    out += render_interval_calibration(doc);
   } else if (experiment == "cross-machine") {
     out += render_cross_machine(doc);
   } else if (experiment == "qualified-sweep") {
@@ -477,18 +520,32 @@ std::string splice_block(const std::string& page, const Document& doc) {
   const std::string name = block_name(doc);
   const std::string start = "<!-- study: " + name + " -->\n";
   const std::string end = "<!-- /study: " + name + " -->\n";
-  const auto at_line_start = [&](const std::string& marker, std::size_t from) {
-    for (std::size_t at = page.find(marker, from); at != std::string::npos;
-         at = page.find(marker, at + 1)) {
-      if (at == 0 || page[at - 1] == '\n') return at;
+  // Every line that is exactly the marker: a block is one start line, then one end line.
+  const auto lines_of = [&](const std::string& marker) {
+    std::vector<std::size_t> at;
+    for (std::size_t p = page.find(marker); p != std::string::npos; p = page.find(marker, p + 1)) {
+      if (p == 0 || page[p - 1] == '\n') at.push_back(p);
     }
-    return std::string::npos;
+    return at;
   };
-  const std::size_t a = at_line_start(start, 0);
-  const std::size_t b = a == std::string::npos ? a : at_line_start(end, a + start.size());
+  const std::vector<std::size_t> starts = lines_of(start), ends = lines_of(end);
+  if (starts.size() > 1 || ends.size() > 1 ||
+      (starts.size() == 1 && ends.size() == 1 && ends[0] < starts[0])) {
+    throw ConfigError(fmt::format(
+        "the page's block \"{}\" is not one `{}` line followed by one `{}` line ({} and {} of "
+        "them): fix the markers by hand",
+        name,
+        start.substr(0, start.size() - 1),
+        end.substr(0, end.size() - 1),
+        starts.size(),
+        ends.size()));
+  }
+  const std::size_t a = starts.empty() ? std::string::npos : starts[0];
+  const std::size_t b = ends.empty() ? std::string::npos : ends[0];
   if (a == std::string::npos || b == std::string::npos) {
     throw ConfigError(fmt::format(
-        "the page has no block \"{}\": put the lines `{}` and `{}` where its table belongs",
+        "the page has no block \"{}\": put the lines `{}` and `{}` where its table belongs "
+        "(the page must use LF line ends)",
         name,
         start.substr(0, start.size() - 1),
         end.substr(0, end.size() - 1)));

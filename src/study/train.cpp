@@ -47,6 +47,7 @@ TrainedModel train_with(const Recipe& recipe,
     }
     if (!known) throw ConfigError("interval folds '" + *folds + "': ridge, as-served or narrower");
   }
+  if (overrides.interval_coverage) o.interval_coverage = *overrides.interval_coverage;
   o.input_names = input_labels<Inputs>();
   auto result = train_fnn<Inputs::kCount, 3, kErrorCount>(s.inputs, s.targets, o);
   if (!result.summary.usable()) {

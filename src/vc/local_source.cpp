@@ -33,7 +33,7 @@ Answer LocalSource::ask(const compensation::MoveRequest& move) {
     a.note = to_string(s);
     return a;
   }
-  a.flags = c.flags;
+  a.flags = c.flags & compensation::kFlagsVersion1;  // as the protocols' result flags
   a.rae_um = c.rae_um;
   a.correction_um = c.correction_um;
   a.model_id = c.model_id;

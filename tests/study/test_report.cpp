@@ -73,9 +73,9 @@ TEST(StudyReport, RendersTheTableTheCommandAndTheVerdict) {
 
 TEST(StudyReport, APipeInATableCellIsEscaped) {
   CoverageResult r = two_rows();
-  r.rows[0].name = "mean |MAE| before";
+  r.rows[0].name = "mean |MAE|\nbefore";
   const std::string md = render_markdown(judged(r, {"pooled: rpe over-covers"}));
-  EXPECT_NE(md.find("| mean \\|MAE\\| before | 270 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| mean \\|MAE\\| before | 270 |"), std::string::npos) << md;  // no line break
 }
 
 TEST(StudyReport, TheDocumentRoundTripsThroughJson) {
@@ -114,6 +114,12 @@ TEST(StudyReport, APageWithoutTheBlockOrAnUnknownExperimentIsAnError) {
                                   "<!-- /study: interval-coverage -->\n",
                                   doc),
                ConfigError);
+  // A block twice, or its end before its start, is refused: a splice would lose the text between.
+  const std::string start = "<!-- study: interval-coverage -->\n";
+  const std::string end = "<!-- /study: interval-coverage -->\n";
+  EXPECT_THROW((void)splice_block(start + "a\n" + start + "prose\n" + end, doc), ConfigError);
+  EXPECT_THROW((void)splice_block(start + end + "x\n" + start + end, doc), ConfigError);
+  EXPECT_THROW((void)splice_block(end + "x\n" + start, doc), ConfigError);
   doc["experiment"] = "no-such-experiment";
   EXPECT_THROW((void)render_markdown(doc), ConfigError);
   EXPECT_THROW((void)render_markdown(Document{{"experiment", "accuracy"}}), ConfigError);

@@ -19,6 +19,7 @@
 #include <cmmcomp/study/calibration.hpp>
 #include <cmmcomp/study/cross_machine.hpp>
 #include <cmmcomp/study/identify_multistart.hpp>
+#include <cmmcomp/study/interval_calibration.hpp>
 #include <cmmcomp/study/interval_coverage.hpp>
 #include <cmmcomp/study/qualified_sweep.hpp>
 #include <cmmcomp/study/recipe.hpp>
@@ -26,9 +27,9 @@
 #include <cmmcomp/study/train.hpp>
 #include <cmmcomp/version.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -194,13 +195,18 @@ int run_cross_machine(const std::vector<std::string>& machines,
                       std::string work,
                       const Output& out) {
   cmmcomp::study::CampaignSetup setup;
-  std::smatch lhs;
-  if (std::regex_match(plan, lhs, std::regex("lhs([0-9]+)"))) {
+  // "l18x3" or "lhsN": N digits, 1 to 999999 moves.
+  const std::string digits = plan.rfind("lhs", 0) == 0 ? plan.substr(3) : std::string();
+  const bool lhs = !digits.empty() && digits.size() <= 6 &&
+                   digits.find_first_not_of("0123456789") == std::string::npos &&
+                   std::stoi(digits) > 0;
+  if (lhs) {
     setup.plan.design = "lhs";
-    setup.plan.lhs_samples = std::stoi(lhs[1]);
+    setup.plan.lhs_samples = std::stoi(digits);
     setup.plan.repeats = 1;
   } else if (plan != "l18x3") {
-    throw cmmcomp::ConfigError("--plan takes l18x3 or lhsN (N moves), not '" + plan + "'");
+    throw cmmcomp::ConfigError("--plan takes l18x3 or lhsN (N moves, 1 to 999999), not '" + plan +
+                               "'");
   }
   std::vector<cmmcomp::study::StudyMachine> list;
   for (const std::string& m : machines) {
@@ -218,9 +224,13 @@ int run_cross_machine(const std::vector<std::string>& machines,
   // Without --work, a temporary folder that is removed afterwards.
   const bool temporary = work.empty();
   if (temporary) {
-    work = (std::filesystem::temp_directory_path() /
-            ("cmmcomp-cross-machine-" + std::to_string(::getpid())))
-               .string();
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "cmmcomp-cross-machine-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) {
+      throw cmmcomp::Error("cannot create a temporary folder in " +
+                           std::filesystem::temp_directory_path().string());
+    }
+    work = pattern;
   }
   struct Remove {
     bool on;
@@ -261,6 +271,27 @@ int run_identify_multistart(const std::string& start,
   return finish(cmmcomp::study::identify_multistart_document(r), targets, out);
 }
 
+int run_interval_calibration(const std::string& recipe,
+                             const std::vector<double>& levels,
+                             const std::string& plot,
+                             const Output& out) {
+  const cmmcomp::study::IntervalCalibrationResult r = cmmcomp::study::interval_calibration(
+      cmmcomp::study::load_recipe(recipe), levels, run_options());
+  if (!plot.empty()) {
+    // The script goes to gnuplot's standard input: no file left behind, no shell.
+    const std::string script = cmmcomp::study::interval_calibration_plot(r, plot);
+    FILE* gnuplot = popen("gnuplot", "w");
+    const bool written = gnuplot != nullptr &&
+                         std::fwrite(script.data(), 1, script.size(), gnuplot) == script.size();
+    if (gnuplot == nullptr || pclose(gnuplot) != 0 || !written) {
+      std::fprintf(
+          stderr, "warning: gnuplot could not draw %s (is gnuplot installed?)\n", plot.c_str());
+    }
+  }
+  std::vector<Target> targets;  // a measurement, not a check
+  return finish(cmmcomp::study::interval_calibration_document(r), targets, out);
+}
+
 /// Renders result documents (the JSON of `--json`) into the page's blocks.
 int run_render(const std::vector<std::string>& documents, const Output& out) {
   int status = 0;
@@ -272,14 +303,22 @@ int run_render(const std::vector<std::string>& documents, const Output& out) {
     if (doc.is_discarded()) {
       throw cmmcomp::ConfigError(path + ": not JSON (expected an experiment's --json output)");
     }
-    const cmmcomp::study::PageSync sync = cmmcomp::study::sync_page(out.page, doc, out.update_page);
+    cmmcomp::study::PageSync sync;
+    try {
+      sync = cmmcomp::study::sync_page(out.page, doc, out.update_page);
+    } catch (const nlohmann::json::exception& e) {
+      throw cmmcomp::ConfigError(path + ": not a study document: " + e.what());
+    }
     if (!sync.current) {
-      std::fprintf(stderr,
-                   "cmmcomp-study: %s the block \"%s\" of %s from %s\n",
-                   out.update_page ? "updated" : "stale:",
-                   doc.value("block", "").c_str(),
-                   out.page.c_str(),
-                   path.c_str());
+      std::fprintf(
+          stderr,
+          "cmmcomp-study: %s the block \"%s\" of %s from %s\n",
+          out.update_page ? "updated" : "stale:",
+          (doc.contains("block") && doc["block"].is_string() ? doc["block"].get<std::string>()
+                                                             : std::string())
+              .c_str(),
+          out.page.c_str(),
+          path.c_str());
       if (!out.update_page) status = 1;
     }
   }
@@ -355,6 +394,20 @@ int main(int argc, char** argv) {
   coverage->add_option("--variant", variants, "a machine file the model never saw, repeatable")
       ->check(CLI::ExistingFile);
   reporting(coverage);
+  std::string ic_recipe, ic_plot;
+  std::vector<double> ic_levels{0.50, 0.60, 0.70, 0.80, 0.90, 0.95, 0.99};
+  CLI::App* calibration_plot = app.add_subcommand(
+      "interval-calibration",
+      "the interval's calibration plot: the recipe's network retrained at each nominal coverage, "
+      "the empirical coverage on its held-out moves (docs/uncertainty.md)");
+  calibration_plot->add_option("--recipe", ic_recipe, "recipe file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  calibration_plot->add_option("--levels", ic_levels, "nominal coverages in (0, 1)")
+      ->delimiter(',')
+      ->capture_default_str();
+  calibration_plot->add_option("--plot", ic_plot, "draw it to this PNG (gnuplot)");
+  reporting(calibration_plot);
   std::string cal_machine;
   std::uint64_t cal_seed = 1;
   int cal_seeds = 1;
@@ -397,6 +450,7 @@ int main(int argc, char** argv) {
   multistart->add_option("--seed", ms_plan.seed, "seed of the starts")->capture_default_str();
   multistart
       ->add_option("--max-iterations", ms_iterations, "Levenberg–Marquardt iterations per fit")
+      ->check(CLI::Range(1, 10000))
       ->capture_default_str();
   multistart
       ->add_option(
@@ -461,6 +515,9 @@ int main(int argc, char** argv) {
   try {
     if (accuracy->parsed()) return run_accuracy(recipes, out);
     if (cells->parsed()) return run_cell_interpolant(recipes, out);
+    if (calibration_plot->parsed()) {
+      return run_interval_calibration(ic_recipe, ic_levels, ic_plot, out);
+    }
     if (multistart->parsed()) {
       return run_identify_multistart(ms_start, ms_free, ms_paper, ms_iterations, ms_plan, out);
     }

@@ -20,6 +20,7 @@
 #include <cmmcomp/study/calibration.hpp>
 #include <cmmcomp/study/cross_machine.hpp>
 #include <cmmcomp/study/identify_multistart.hpp>
+#include <cmmcomp/study/interval_calibration.hpp>
 #include <cmmcomp/study/interval_coverage.hpp>
 #include <cmmcomp/study/qualified_sweep.hpp>
 #include <nlohmann/json.hpp>
@@ -39,6 +40,7 @@ Document qualified_sweep_document(const SweepResult& result);
 Document cross_machine_document(const CrossMachineResult& result);
 Document calibration_document(const CalibrationResult& result);
 Document identify_multistart_document(const MultistartResult& result);
+Document interval_calibration_document(const IntervalCalibrationResult& result);
 
 /// Adds the targets and check()'s verdict to `doc`.
 void add_verdict(Document& doc, const std::vector<Target>& targets, const Verdict& verdict);

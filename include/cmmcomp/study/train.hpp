@@ -19,6 +19,7 @@ namespace cmmcomp::study {
 /// ridge folds: the fold networks take minutes there).
 struct FitOverrides {
   std::optional<std::string> interval_folds;
+  std::optional<double> interval_coverage;  ///< the interval's nominal coverage (default 0.95)
 };
 
 struct TrainedModel {

@@ -10,8 +10,8 @@ if [ "$host" = "[::1]" ] && ! grep -q '^0\{31\}1 ' /proc/net/if_inet6 2>/dev/nul
   echo "live_modbus: no IPv6 loopback on this machine (skipped)"
   exit 0
 fi
-# shellcheck source=../../../scripts/lib/tool-script.sh
-source "$(dirname "${BASH_SOURCE[0]}")/../../../scripts/lib/tool-script.sh"
+# shellcheck source=tool-script.sh
+source "$(dirname "${BASH_SOURCE[0]}")/tool-script.sh"
 log="$(mktemp "${TMPDIR:-/tmp}/replay-agent.XXXXXX")"
 agent_pid=""
 cleanup() {

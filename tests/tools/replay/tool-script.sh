@@ -1,7 +1,6 @@
 # SPDX-License-Identifier: MIT
-# Sourced by the scripts that drive the built tools (interval-calibration-plot.sh, the live
-# replay test): the tool check, the --check flag, the work folder and starting an agent on a
-# free port, once.
+# Sourced by the live replay test (tests/tools/replay/live_modbus.sh): the tool check, the
+# --check flag, the work folder and starting an agent on a free port, once.
 # require_tools SCRIPT TOOL...: exits 2 with a hint when a tool is not built.
 require_tools() {
   local script="$1"
