@@ -41,7 +41,7 @@ bash scripts/firmware-figures.sh
 stage "aarch64 Linux (qemu-aarch64): the core's unit tests and golden vectors" aarch64 -j "$jobs"
 # The programs labelled concurrency: the compensators' hot swap, the Modbus server under many
 # and hostile clients, the agent's reload on SIGHUP.
-STAGE_TARGETS="test_move_compensator test_static_compensator test_modbus_server test_agent_modbus" \
+STAGE_TARGETS="test_move_compensator test_conditions test_static_compensator test_modbus_server test_agent_modbus" \
   TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   stage "ThreadSanitizer: the concurrency tests" tsan -L concurrency -j "$jobs"
 # One target at a time: each fuzzes for CMMCOMP_FUZZ_SECONDS.
