@@ -45,6 +45,6 @@ STAGE_TARGETS="test_move_compensator test_conditions test_static_compensator tes
   TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   stage "ThreadSanitizer: the concurrency tests" tsan -L concurrency -j "$jobs"
 # One target at a time: each fuzzes for CMMCOMP_FUZZ_SECONDS.
-stage "libFuzzer smoke: every target on its committed corpus" fuzz
+stage "libFuzzer smoke: every target on its committed corpus" fuzz -j "$jobs"
 
 echo "test-all: everything passed in $(( $(date +%s) - start )) s"
