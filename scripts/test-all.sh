@@ -44,7 +44,7 @@ stage "aarch64 Linux (qemu-aarch64): the core's unit tests and golden vectors" a
 STAGE_TARGETS="test_move_compensator test_conditions test_static_compensator test_modbus_server test_agent_modbus" \
   TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   stage "ThreadSanitizer: the concurrency tests" tsan -L concurrency -j "$jobs"
-# One target at a time: each fuzzes for CMMCOMP_FUZZ_SECONDS.
+# Two targets at a time (one core each): each fuzzes for CMMCOMP_FUZZ_SECONDS.
 stage "libFuzzer smoke: every target on its committed corpus" fuzz -j "$jobs"
 
 echo "test-all: everything passed in $(( $(date +%s) - start )) s"
