@@ -37,12 +37,10 @@ int main() {
   //    CV. Levenberg-Marquardt (at most 2 iterations here) refines only data with more design
   //    points than the premise's 24 centres and widths; on these 18 the ridge fit is kept and
   //    sum.message says why (docs/training.md, "The prior").
-  const auto samples = training::samples<PaperInputs>(rows);  // PV, PD, AV, AD -> four errors
   training::FnnTrainingOptions topt;
   topt.max_iterations = 2;
-  topt.input_names = training::input_labels<PaperInputs>();
-  const auto result = training::train_fnn<PaperInputs::kCount, 3, kErrorCount>(
-      samples.inputs, samples.targets, topt);
+  const auto result = training::train_network<PaperInputs>(rows, topt);  // PV, PD, AV, AD
+  const auto samples = training::samples<PaperInputs>(rows);             // the four errors per row
   const training::TrainingSummary& sum = result.summary;
   std::printf("trained in %.2f s (%s), %d iterations, lambda %g, cost %.4g -> %.4g\n",
               sum.wall_seconds,

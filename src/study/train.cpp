@@ -30,7 +30,6 @@ TrainedModel train_with(const Recipe& recipe,
                         const std::vector<DatasetRow>& rows,
                         const FitOverrides& overrides) {
   using namespace training;
-  const auto s = samples<Inputs>(rows);
   FnnTrainingOptions o;
   o.seed = recipe.fit.seed;
   if (recipe.fit.max_iterations) o.max_iterations = *recipe.fit.max_iterations;
@@ -48,8 +47,7 @@ TrainedModel train_with(const Recipe& recipe,
     if (!known) throw ConfigError("interval folds '" + *folds + "': ridge, as-served or narrower");
   }
   if (overrides.interval_coverage) o.interval_coverage = *overrides.interval_coverage;
-  o.input_names = input_labels<Inputs>();
-  auto result = train_fnn<Inputs::kCount, 3, kErrorCount>(s.inputs, s.targets, o);
+  auto result = train_network<Inputs>(rows, o);
   if (!result.summary.usable()) {
     throw Error(recipe.source + ": the trained network is not usable: " + result.summary.message);
   }

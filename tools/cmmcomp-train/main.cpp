@@ -205,7 +205,6 @@ std::string describe(const cmmcomp::io::TrainingConditions& c) {
 
 template <typename Inputs>
 int run_fit(const FitCommand& cmd, const ConditionOptions& condition_options) {
-  constexpr int kInputs = Inputs::kCount;
   using namespace cmmcomp::training;
   const auto rows = cmmcomp::io::read_dataset_csv(cmd.data);
   if (rows.size() < static_cast<std::size_t>(cmd.folds)) {
@@ -220,7 +219,6 @@ int run_fit(const FitCommand& cmd, const ConditionOptions& condition_options) {
                  "unless given them; pass --campaign OUTPUT.summary.json (the extract's summary) "
                  "or --machine FILE|default (a twin's dataset)\n");
   }
-  const auto samples = cmmcomp::training::samples<Inputs>(rows);
   FnnTrainingOptions options;
   options.method =
       cmd.method == "gd" ? FnnMethod::kGradientDescent : FnnMethod::kLevenbergMarquardt;
@@ -233,13 +231,12 @@ int run_fit(const FitCommand& cmd, const ConditionOptions& condition_options) {
        {IntervalFolds::kRidge, IntervalFolds::kAsServed, IntervalFolds::kNarrower}) {
     if (cmd.interval_folds == to_string(f)) options.interval_folds = f;
   }
-  options.input_names = input_labels<Inputs>();
   if (isatty(fileno(stderr)) != 0) {
     options.progress = [](int iteration, double cost) {
       std::fprintf(stderr, "\riteration %4d  cost %.6g", iteration, cost);
     };
   }
-  const auto result = train_fnn<kInputs, 3, 4>(samples.inputs, samples.targets, options);
+  const auto result = train_network<Inputs>(rows, options);
   if (options.progress) std::fputc('\n', stderr);
   const TrainingSummary& s = result.summary;
   std::printf("trained %s on %zu samples of %s in %.2f s: %s\n",
