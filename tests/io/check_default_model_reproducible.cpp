@@ -59,7 +59,7 @@ double largest_difference(const File& a, const File& b) {
 // MPE's choice from the ridge folds to the folds as served, and its U95 lies within 0.03 µm of the
 // shipped one at both κ (MPE h 2.640 against 2.663 µm). What it catches: another fold-model kind
 // (RPE 2.06 µm with the ridge folds against 1.55 µm as shipped), another coverage, other data. The
-// extrapolation gain is not compared: it is noise-driven (docs/uncertainty.md, limit 7).
+// extrapolation gain is not compared: it is noise-driven (docs/uncertainty.md, "Known limits").
 template <typename File>
 void expect_same_interval(const File& committed, const File& again) {
   ASSERT_EQ(committed.interval.available(), again.interval.available());
