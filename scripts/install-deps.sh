@@ -3,7 +3,7 @@
 # install-deps.sh [main|test]: installs, from Debian's packages only, what this machine lacks for
 # README command 1 (`main`: build the tools and run the main job; the default) or command 2
 # (`test`: main's, plus the test toolchain: UML and CAN utilities, Modbus clients, the firmware
-# and aarch64 cross compilers and QEMU, clang for the sanitizers, clang-format). Idempotent: a
+# and aarch64 cross compilers and QEMU, clang for the sanitizers, clang-format, clang-tidy). Idempotent: a
 # second run installs nothing. Needs root (or sudo) only when something is missing.
 set -euo pipefail
 what="${1:-main}"
@@ -17,7 +17,7 @@ main=(
 )
 test=(
   can-utils user-mode-linux kmod iproute2 mbpoll socat
-  clang-format systemd dpkg-dev file python3
+  clang-format clang-tidy systemd dpkg-dev file python3
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
   g++-aarch64-linux-gnu qemu-user
   clang libclang-rt-14-dev libomp-14-dev

@@ -3,7 +3,8 @@
 # README command 2 (and all of CI): install what is missing, then build and run every test:
 # the release build with warnings as errors (all ctest labels), the ASan+UBSan build of the
 # tests, the firmware builds (Cortex-M7 under qemu-system-arm, aarch64 under qemu-aarch64), the
-# ThreadSanitizer on the concurrency tests and the libFuzzer smoke, after the clang-format check.
+# ThreadSanitizer on the concurrency tests and the libFuzzer smoke, after the clang-format check;
+# clang-tidy (.clang-tidy) after the release build.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
@@ -34,6 +35,11 @@ stage() {
 }
 
 stage "release build, all tests" release -j "$jobs"
+# clang-tidy over the libraries, plugins and tools, on the release build's compile commands.
+t0=$(date +%s)
+echo "== clang-tidy =="
+bash scripts/clang-tidy.sh build/release
+echo "== clang-tidy: $(( $(date +%s) - t0 )) s =="
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   stage "ASan + UBSan build, all tests" asan -j "$jobs"
 stage "Cortex-M7 firmware (qemu-system-arm -M mps2-an500)" fw-cortex-m7 -j "$jobs"

@@ -37,7 +37,7 @@ extern "C" {
 #define CMMCOMP_MAX_AXES 4u
 /** Largest model file accepted, in bytes (the shipped 4x3x4 and 5x3x4 default models are
  * about 39 kB and 129 kB). */
-#define CMMCOMP_MAX_MODEL_BYTES (4u * 1024u * 1024u)
+#define CMMCOMP_MAX_MODEL_BYTES 4194304u /* 4 MiB */
 /** Longest string cmmcomp_strerror and cmmcomp_version return, without the terminating 0. */
 #define CMMCOMP_MAX_MESSAGE_LENGTH 80u
 

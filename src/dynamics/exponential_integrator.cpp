@@ -20,7 +20,9 @@ constexpr int kN = ExponentialIntegrator::kAugmented;
 using Matrix = ExponentialIntegrator::Matrix;
 using Vector = ExponentialIntegrator::Vector;
 
-constexpr std::size_t at(int r, int c) noexcept { return static_cast<std::size_t>(r * kN + c); }
+constexpr std::size_t at(int r, int c) noexcept {
+  return static_cast<std::size_t>(r) * std::size_t{kN} + static_cast<std::size_t>(c);
+}
 
 /// a · b (row-major), each element summed in column order.
 Matrix multiply(const Matrix& a, const Matrix& b) noexcept {

@@ -29,7 +29,7 @@ class ExponentialIntegrator {
   /// portable sanitizer builds), because the shipped models are retrained from it and compared
   /// by its hash (ctest default_model_reproducible); a last-digit change of one sample moves the
   /// retrained model by ~0.5 µm.
-  using Matrix = std::array<double, kAugmented * kAugmented>;
+  using Matrix = std::array<double, std::size_t{kAugmented} * kAugmented>;
   using Vector = std::array<double, kAugmented>;
   /// Receives a sample: its time [s] and the model's states (equations::kStates values).
   using Sink = std::function<void(double t, const double* y)>;

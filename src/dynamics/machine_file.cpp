@@ -63,9 +63,9 @@ using P = MachineParameters;
 using Info = ParameterInfo<P>;
 
 /// Accessor that lets one table entry name a member.
-template <double P::*Member>
+template <double P::*kMember>
 double& member(P& p) {
-  return p.*Member;
+  return p.*kMember;
 }
 
 }  // namespace

@@ -139,7 +139,8 @@ std::vector<SweepResult> run_sweeps(const Machine& machine, int threads) {
       s.parameter = p;
       const double sigma = paper::kTable1Std[static_cast<std::size_t>(p)];
       for (int combo = 0; combo < 8; ++combo) {
-        const std::size_t first = static_cast<std::size_t>((input * 8 + combo) * kSweepPoints);
+        const int first_index = (input * 8 + combo) * kSweepPoints;
+        const auto first = static_cast<std::size_t>(first_index);
         std::vector<double> v;
         bool triangular = false;
         for (int k = 0; k < kSweepPoints; ++k) {

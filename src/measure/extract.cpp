@@ -1299,6 +1299,7 @@ Extraction extract_moves(const std::vector<PlannedMove>& plan,
         std::acos(std::min(1.0, 1.0 + std::min(0.0, ex.scale_factor))) * 180 / M_PI));
   }
   std::vector<int> runs;
+  runs.reserve(work.size());
   for (const Work& w : work) runs.push_back(w.planned != nullptr ? w.planned->run : 0);
   estimate_noise(ex, runs);
   return ex;

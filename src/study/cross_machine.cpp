@@ -77,6 +77,7 @@ CrossMachineResult cross_machine(const std::vector<StudyMachine>& machines,
       measure::write_move_recording(dir + "/rec", moves[i].recording, plan[i].axis);
     }
     std::vector<measure::MoveRecording> recordings;
+    recordings.reserve(plan.size());
     for (const measure::PlannedMove& p : plan) {
       recordings.push_back(measure::read_planned_recording(dir + "/rec", p));
     }

@@ -62,9 +62,7 @@ TrainedModel train_with(const Recipe& recipe,
   file.training.tool_version = std::string("cmmcomp-study ") + CMMCOMP_VERSION_STRING;
   file.interval = result.interval;
   if (result.interval.available()) {
-    std::vector<std::string> outputs;
-    for (const auto& e : kErrors) outputs.emplace_back(e.label);
-    file.interval_method = interval_method(result.summary.interval_folds, outputs);
+    file.interval_method = interval_method(result.summary.interval_folds);
     file.interval_samples = result.summary.interval_samples;
   }
   io::TrainingConditions c = io::dataset_conditions(rows);

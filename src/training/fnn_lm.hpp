@@ -59,16 +59,15 @@ void refine_lm(const NormalisedData<kInputs, kOutputs>& d,
   so.minimizer_type = ceres::TRUST_REGION;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   const int params = kPremise + kOutputs * Layout::kConsequentBlock;
-  if (params <= 1000) {
-    so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
-    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
-    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-  } else {
-    so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // and without a sparse library
+  if (params > 1000) {
+    for (const auto library : {ceres::SUITE_SPARSE, ceres::EIGEN_SPARSE}) {
+      if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library)) {
+        so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+        so.sparse_linear_algebra_library_type = library;
+        break;
+      }
+    }
   }
   so.max_num_iterations = options.max_iterations;
   so.num_threads = 1;

@@ -107,12 +107,13 @@ void build_problem(const NormalisedData<kInputs, kOutputs>& d,
   constexpr int kTerms = Layout::kTerms;
   order.clear();
   order.push_back(premise.data());
-  for (int b = 0; b < kOutputs * kRules; ++b) order.push_back(consequents.data() + b * kTerms);
+  for (int b = 0; b < kOutputs * kRules; ++b)
+    order.push_back(consequents.data() + std::ptrdiff_t{b} * kTerms);
   std::vector<double*> blocks(static_cast<std::size_t>(kRules + 1));
   for (int o = 0; o < kOutputs; ++o) {
     blocks[0] = premise.data();
     for (int j = 0; j < kRules; ++j) {
-      blocks[sz(j + 1)] = consequents.data() + (o * kRules + j) * kTerms;
+      blocks[sz(j + 1)] = consequents.data() + std::ptrdiff_t{o * kRules + j} * kTerms;
     }
     for (std::size_t k = 0; k < d.x.size(); ++k) {
       auto* functor = new Residual;
@@ -127,9 +128,10 @@ void build_problem(const NormalisedData<kInputs, kOutputs>& d,
   }
   if (lambda > 0.0) {
     for (int b = 0; b < kOutputs * kRules; ++b) {
-      const double* p0 = prior.data() + b * kTerms;
-      problem.AddResidualBlock(
-          new RidgeCost<kTerms>(lambda, p0), nullptr, consequents.data() + b * kTerms);
+      const double* p0 = prior.data() + std::ptrdiff_t{b} * kTerms;
+      problem.AddResidualBlock(new RidgeCost<kTerms>(lambda, p0),
+                               nullptr,
+                               consequents.data() + std::ptrdiff_t{b} * kTerms);
     }
   }
 }

@@ -120,6 +120,7 @@ class RidgeFit {
   /// The input names for descriptions: options.input_names, or "x0", "x1", ….
   std::vector<std::string> names() const {
     std::vector<std::string> out;
+    out.reserve(static_cast<std::size_t>(kInputs));
     for (int i = 0; i < kInputs; ++i) {
       out.push_back(options_.input_names.size() == static_cast<std::size_t>(kInputs)
                         ? options_.input_names[sz(i)]
@@ -162,9 +163,9 @@ class RidgeFit {
       const double total = Net::firing(params.data(), d_.x[k], alpha);
       for (int j = 0; j < kRules; ++j) {
         const double a = alpha[sz(j)] / total;
-        phi(static_cast<Index>(k), j * kTerms) = a;
+        phi(static_cast<Index>(k), Index{j} * kTerms) = a;
         for (int i = 0; i < kInputs; ++i) {
-          phi(static_cast<Index>(k), j * kTerms + 1 + i) = a * d_.x[k][sz(i)];
+          phi(static_cast<Index>(k), Index{j} * kTerms + 1 + i) = a * d_.x[k][sz(i)];
         }
       }
     }
@@ -202,10 +203,10 @@ class RidgeFit {
         double p0 = prior_features(shape, c.data()).dot(b);
         for (int i = 0; i < kInputs; ++i) {
           const double slope = prior_feature_slopes(shape, c.data(), i).dot(b);
-          prior(j * kTerms + 1 + i, o) = slope;
+          prior(Index{j} * kTerms + 1 + i, o) = slope;
           p0 -= slope * c[sz(i)];
         }
-        prior(j * kTerms, o) = p0;
+        prior(Index{j} * kTerms, o) = p0;
       }
     }
     return prior;
@@ -283,7 +284,7 @@ class RidgeFit {
       s.cv_rmse.push_back(std::sqrt(sse(static_cast<Index>(best), o) / d_.n) * d_.scale[sz(o)]);
     }
     const MatrixXd prior = rule_prior(all_rows(static_cast<Index>(d_.x.size())), r.u);
-    r.prior.assign(static_cast<std::size_t>(kOutputs * kBlock), 0.0);
+    r.prior.assign(std::size_t{kOutputs} * kBlock, 0.0);
     for (int o = 0; o < kOutputs; ++o) {
       for (int k = 0; k < kBlock; ++k) r.prior[sz(o * kBlock + k)] = prior(k, o);
     }
@@ -291,7 +292,7 @@ class RidgeFit {
     s.design_points = d_.groups;
     const RidgeDual ridge(r.phi, d_.z - r.phi * prior);
     const MatrixXd p0 = ridge.consequents(s.lambda);  // kBlock × kOutputs, deviations from it
-    r.consequents.resize(static_cast<std::size_t>(kOutputs * kBlock));
+    r.consequents.resize(std::size_t{kOutputs} * kBlock);
     for (int o = 0; o < kOutputs; ++o) {
       for (int k = 0; k < kBlock; ++k) r.consequents[sz(o * kBlock + k)] = prior(k, o) + p0(k, o);
     }

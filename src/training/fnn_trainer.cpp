@@ -63,6 +63,13 @@ std::string interval_method(const std::vector<IntervalFolds>& used,
          "); extrapolation gain from held-out ends";
 }
 
+std::string interval_method(const std::vector<IntervalFolds>& used) {
+  std::vector<std::string> outputs;
+  outputs.reserve(kErrors.size());
+  for (const auto& e : kErrors) outputs.emplace_back(e.label);
+  return interval_method(used, outputs);
+}
+
 bool FnnTrainingOptions::is_valid(std::string* why) const {
   auto fail = [why](const std::string& msg) {
     if (why != nullptr) *why = msg;

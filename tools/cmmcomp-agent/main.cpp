@@ -345,7 +345,7 @@ int serve(const Options& opt) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{
       "cmmcomp-agent: serves the per-move dynamic-error compensator to a CMM controller over "
       "SocketCAN (docs/protocol-can.md) and/or Modbus TCP/RTU (docs/protocol-modbus.md).\n"
@@ -416,4 +416,8 @@ int main(int argc, char** argv) {
     spdlog::critical("{}", e.what());
     return 2;
   }
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-agent", run_tool, argc, argv);
 }

@@ -58,7 +58,7 @@ struct PlanCommand {
 /// Writes plan.csv and plan.ipp of `options` into `dir`; returns the moves.
 std::vector<measure::PlannedMove> write_plan(const measure::PlanOptions& options,
                                              const std::string& dir) {
-  const std::vector<measure::PlannedMove> moves = measure::plan_experiment(options);
+  std::vector<measure::PlannedMove> moves = measure::plan_experiment(options);
   std::filesystem::create_directories(dir);
   cmmcomp::io::write_file_atomically(dir + "/plan.csv", measure::format_plan_csv(moves));
   cmmcomp::io::write_file_atomically(dir + "/plan.ipp",
@@ -231,7 +231,7 @@ int run_extract(ExtractCommand cmd) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{
       "cmmcomp-measure: plan the experiment for a real machine, and extract its "
       "recordings into the four parameters"};
@@ -354,4 +354,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-measure", run_tool, argc, argv);
 }

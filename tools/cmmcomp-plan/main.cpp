@@ -439,7 +439,7 @@ int run(const Options& opt, bool y_given) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{
       "cmmcomp-plan: the fastest probing setting whose point error meets a budget at a coverage "
       "(95 %), with "
@@ -546,4 +546,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cmmcomp-plan: %s\n", e.what());
     return 1;
   }
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-plan", run_tool, argc, argv);
 }

@@ -142,7 +142,7 @@ int run(const Options& opt) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{
       "cmmcomp-replay: replays a recorded controller session (a Modbus transcript or a candump "
       "-l log, docs/recordings.md) through cmmcomp-agent's own request handlers with the given "
@@ -191,4 +191,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
     return 1;
   }
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-replay", run_tool, argc, argv);
 }

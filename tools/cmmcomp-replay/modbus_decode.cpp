@@ -117,7 +117,7 @@ void add_registers(std::vector<FieldValue>& out,
       }
     }
     const auto n = match == nullptr ? 1u : static_cast<std::uint32_t>(match->registers());
-    if (match != nullptr && r + n <= end && at + 2 * n <= b.size()) {
+    if (match != nullptr && r + n <= end && at + std::size_t{2} * n <= b.size()) {
       add_typed(out, b, at, *match);
     } else {  // outside the map, or a field only partly read
       add(out,
@@ -130,7 +130,7 @@ void add_registers(std::vector<FieldValue>& out,
       continue;
     }
     r += n;
-    at += 2 * n;
+    at += std::size_t{2} * n;
   }
 }
 

@@ -111,7 +111,7 @@ int run_profile(const MoveFlags& flags, const std::string& csv_path, int samples
 
 cmmcomp::dynamics::Machine machine_from(const std::string& path) {
   if (path.empty()) return cmmcomp::dynamics::default_machine();
-  const cmmcomp::dynamics::Machine m = cmmcomp::dynamics::load_machine(path);
+  cmmcomp::dynamics::Machine m = cmmcomp::dynamics::load_machine(path);
   for (const std::string& w : cmmcomp::dynamics::implausible_parameters(m.parameters)) {
     std::fprintf(stderr, "warning: %s: %s\n", path.c_str(), w.c_str());
   }
@@ -417,7 +417,7 @@ int run_paper(const std::string& machine_path, std::uint64_t seed, bool check) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{"cmmcomp-sim: probing-move profiles and the CMM digital twin"};
   app.set_version_flag("--version", std::string("cmmcomp ") + CMMCOMP_VERSION_STRING);
   app.require_subcommand(1);
@@ -624,4 +624,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-sim", run_tool, argc, argv);
 }

@@ -327,7 +327,7 @@ int run_render(const std::vector<std::string>& documents, const Output& out) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{"cmmcomp-study: the project's experiments over the libraries (docs/study.md)"};
   app.set_version_flag("--version", std::string("cmmcomp ") + CMMCOMP_VERSION_STRING);
   app.require_subcommand(1);
@@ -544,4 +544,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cmmcomp-study: %s\n", e.what());
     return 1;
   }
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-study", run_tool, argc, argv);
 }

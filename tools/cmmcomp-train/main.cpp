@@ -295,9 +295,7 @@ int run_fit(const FitCommand& cmd, const ConditionOptions& condition_options) {
   std::printf("conditions: %s\n", describe(conditions).c_str());
   file.interval = result.interval;
   if (result.interval.available()) {
-    std::vector<std::string> outputs;
-    for (const auto& e : cmmcomp::kErrors) outputs.emplace_back(e.label);
-    file.interval_method = interval_method(s.interval_folds, outputs);
+    file.interval_method = interval_method(s.interval_folds);
     file.interval_samples = s.interval_samples;
   }
   const std::string id = cmmcomp::io::save_model_file(cmd.output, file);
@@ -424,7 +422,7 @@ int run_eval(const cmmcomp::io::ModelFileOf<Inputs>& file,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{"cmmcomp-train: train, evaluate and export the T-S fuzzy network"};
   app.set_version_flag("--version", std::string("cmmcomp ") + CMMCOMP_VERSION_STRING);
   app.require_subcommand(1);
@@ -595,4 +593,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-train", run_tool, argc, argv);
 }

@@ -172,6 +172,7 @@ int run(const Options& opt) {
     links.push_back(std::make_unique<PerYSource>(specs[i].label, std::move(per_y)));
   }
   std::vector<CorrectionSource*> agents;
+  agents.reserve(links.size());
   for (auto& l : links) agents.push_back(l.get());
 
   const LengthTestResult result = run_length_test(program, twin, agents);
@@ -192,7 +193,7 @@ int run(const Options& opt) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_tool(int argc, char** argv) {
   CLI::App app{
       "cmmcomp-vc: a virtual CMM controller. Runs an ISO 10360-2 style bidirectional length "
       "test on the digital twin at a fast (compensated) and a slow (reference) setting, asks "
@@ -281,4 +282,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cmmcomp-vc: %s\n", e.what());
     return 1;
   }
+}
+
+int main(int argc, char** argv) {
+  return cmmcomp::tools::guarded_main("cmmcomp-vc", run_tool, argc, argv);
 }

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 /// @file How every tool ends on a usage error: CLI11's message, a "did you mean" for a misspelt
-/// option, and exit status 2 (0 for --help and --version). Header-only, for the tools' mains.
+/// option, and exit status 2 (0 for --help and --version); and how no exception leaves a tool's
+/// main. Header-only, for the tools' mains.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <cmmcomp/detail/did_you_mean.hpp>
 #include <cstdio>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,21 @@ inline int usage_exit(CLI::App& app, const CLI::ParseError& e) {
     }
   }
   return 2;
+}
+
+/// Runs a tool's body `run(argc, argv)` so that no exception leaves main: one that escapes it (a
+/// failure while setting up the options, or a bug; the bodies catch what they expect) is printed
+/// as "TOOL: internal error: WHAT" and gives exit status 1.
+template <typename Run>
+int guarded_main(const char* tool, Run run, int argc, char** argv) noexcept {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error: %s\n", tool, e.what());
+  } catch (...) {
+    std::fprintf(stderr, "%s: internal error\n", tool);
+  }
+  return 1;
 }
 
 }  // namespace cmmcomp::tools

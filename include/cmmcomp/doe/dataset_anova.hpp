@@ -67,6 +67,7 @@ inline DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
   }
   std::vector<std::string> names(kAnovaFactors.begin(), kAnovaFactors.end());
   std::vector<int> counts;
+  counts.reserve(levels.size());
   for (const auto& l : levels) counts.push_back(static_cast<int>(l.size()));
   std::vector<std::vector<int>> indices;
   std::array<std::vector<double>, 4> means;

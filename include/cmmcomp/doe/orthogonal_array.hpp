@@ -240,7 +240,8 @@ inline bool is_orthogonal(const OrthogonalArray& oa) {
       if (oa.runs() % (li * lj) != 0) return false;
       std::vector<int> count(static_cast<std::size_t>(li * lj), 0);
       for (int r = 0; r < oa.runs(); ++r) {
-        ++count[static_cast<std::size_t>(oa.level(r, i) * lj + oa.level(r, j))];
+        const int cell = oa.level(r, i) * lj + oa.level(r, j);
+        ++count[static_cast<std::size_t>(cell)];
       }
       for (const int n : count) {
         if (n != oa.runs() / (li * lj)) return false;

@@ -10,9 +10,9 @@ namespace cmmcomp::io {
 
 /// Largest model file any reader accepts [bytes]: the C ABI's CMMCOMP_MAX_MODEL_BYTES (the
 /// shipped 5-input model is 129 kB).
-inline constexpr std::uintmax_t kMaxModelFileBytes = 4u * 1024u * 1024u;
+inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{4} * 1024u * 1024u;
 /// Largest dataset CSV, machine file or other text input read whole [bytes].
-inline constexpr std::uintmax_t kMaxTextFileBytes = 256u * 1024u * 1024u;
+inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{256} * 1024u * 1024u;
 
 /// The whole content of `path`, which must be a regular file (after symbolic links) of at most
 /// `max_bytes`. Never blocks on a FIFO or device (it is opened non-blocking and refused). Throws

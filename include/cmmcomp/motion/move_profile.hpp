@@ -60,13 +60,13 @@ constexpr ProbingMove probing_move_mm(double pv_mm_s,
 /// AD 10 mm), in SI units.
 constexpr ProbingMove baseline_move() noexcept {
   // mm / 1000 is the double nearest the SI value, as the literal 0.040 is (bit-identical).
-  constexpr paper::BaselineMove b = paper::kBaseline;
-  return ProbingMove{b.pv_mm_s / 1000.0,
-                     b.pa_mm_s2 / 1000.0,
-                     b.pd_mm / 1000.0,
-                     b.av_mm_s / 1000.0,
-                     b.aa_mm_s2 / 1000.0,
-                     b.ad_mm / 1000.0,
+  constexpr paper::BaselineMove kB = paper::kBaseline;
+  return ProbingMove{kB.pv_mm_s / 1000.0,
+                     kB.pa_mm_s2 / 1000.0,
+                     kB.pd_mm / 1000.0,
+                     kB.av_mm_s / 1000.0,
+                     kB.aa_mm_s2 / 1000.0,
+                     kB.ad_mm / 1000.0,
                      0.0,
                      0.0,
                      0.0};

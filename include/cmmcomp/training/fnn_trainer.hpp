@@ -55,6 +55,9 @@ const char* to_string(IntervalFolds folds) noexcept;
 std::string interval_method(const std::vector<IntervalFolds>& used,
                             const std::vector<std::string>& outputs);
 
+/// interval_method for a network whose outputs are the four error parameters (kErrors' labels).
+std::string interval_method(const std::vector<IntervalFolds>& used);
+
 /// Training options. The default method is LM; the GD fields hold the paper's settings for the
 /// baseline.
 struct FnnTrainingOptions {

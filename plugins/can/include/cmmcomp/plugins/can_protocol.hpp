@@ -509,7 +509,7 @@ Status put_values(const EncodedValue<Field> (&values)[kValues],
       if (bad != nullptr) *bad = v.field;
       return Status::kInvalidInput;
     }
-    put_raw(words[static_cast<std::size_t>(v.spec->mux)], *v.spec, raw);
+    put_raw(words[static_cast<std::size_t>(static_cast<unsigned char>(v.spec->mux))], *v.spec, raw);
   }
   return Status::kOk;
 }

@@ -242,7 +242,7 @@ class ModbusRequestHandler {
     }
     modbus::HoldingRegisters merged = holding_;
     for (std::uint16_t i = 0; i < count; ++i) {
-      merged[static_cast<std::size_t>(address + i)] = be16(data + 2 * i);
+      merged[static_cast<std::size_t>(address + i)] = be16(data + std::ptrdiff_t{2} * i);
     }
     for (std::uint16_t i = 0; i < count; ++i) {
       if (modbus::check_field(merged, static_cast<std::uint16_t>(address + i)) != Status::kOk) {
@@ -302,7 +302,8 @@ class ModbusRequestHandler {
     put_u32(&input_[kClientsConnected],
             static_cast<std::uint32_t>(clients_connected_.load(std::memory_order_relaxed)));
     for (int axis = 0; axis < compensation::kMaxAxes; ++axis) {
-      put_u64(&input_[static_cast<std::size_t>(kModelIdAxis0 + 4 * axis)],
+      put_u64(&input_[static_cast<std::size_t>(kModelIdAxis0) +
+                      std::size_t{4} * static_cast<std::size_t>(axis)],
               compensator_.model_id(axis));
     }
   }
