@@ -32,7 +32,7 @@ cd "$root"
 layer_of() {
   case "$1" in
     include/cmmcomp/io/* | src/io/* | cmmcomp/io/*) echo io ;;
-    include/cmmcomp/dynamics/* | include/cmmcomp/doe/* | src/dynamics/* \
+    include/cmmcomp/dynamics/* | include/cmmcomp/doe/* | src/dynamics/* | src/doe/* \
       | cmmcomp/dynamics/* | cmmcomp/doe/*) echo twin ;;
     include/cmmcomp/training/* | src/training/* | cmmcomp/training/*) echo training ;;
     include/cmmcomp/measure/* | src/measure/* | cmmcomp/measure/*) echo measure ;;

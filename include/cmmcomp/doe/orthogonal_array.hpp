@@ -34,35 +34,7 @@ class OrthogonalArray {
   /// The constructor does not require orthogonality: use is_orthogonal() to check it.
   OrthogonalArray(std::string name,
                   std::vector<int> levels_per_column,
-                  const std::vector<std::vector<int>>& rows)
-      : name_(std::move(name)), levels_(std::move(levels_per_column)) {
-    if (levels_.empty()) throw ConfigError("OrthogonalArray " + name_ + ": no columns");
-    if (rows.empty()) throw ConfigError("OrthogonalArray " + name_ + ": no runs");
-    for (std::size_t c = 0; c < levels_.size(); ++c) {
-      if (levels_[c] < 2) {
-        throw ConfigError("OrthogonalArray " + name_ + ": column " + std::to_string(c) +
-                          " has fewer than 2 levels");
-      }
-    }
-    runs_ = static_cast<int>(rows.size());
-    cells_.reserve(rows.size() * levels_.size());
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-      if (rows[r].size() != levels_.size()) {
-        throw ConfigError("OrthogonalArray " + name_ + ": run " + std::to_string(r) + " has " +
-                          std::to_string(rows[r].size()) + " cells, expected " +
-                          std::to_string(levels_.size()));
-      }
-      for (std::size_t c = 0; c < levels_.size(); ++c) {
-        const int v = rows[r][c];
-        if (v < 0 || v >= levels_[c]) {
-          throw ConfigError("OrthogonalArray " + name_ + ": cell (run " + std::to_string(r) +
-                            ", column " + std::to_string(c) + ") = " + std::to_string(v) +
-                            " is outside [0, " + std::to_string(levels_[c]) + ")");
-        }
-        cells_.push_back(v);
-      }
-    }
-  }
+                  const std::vector<std::vector<int>>& rows);
 
   /// The label given at construction ("L9", "L18", "L27" for the factories).
   const std::string& name() const noexcept { return name_; }
@@ -126,129 +98,33 @@ class OrthogonalArray {
 namespace detail {
 
 /// Builds an array from a table written 1-based, as published.
-inline OrthogonalArray from_one_based(std::string name,
-                                      std::vector<int> levels_per_column,
-                                      std::initializer_list<std::initializer_list<int>> table) {
-  std::vector<std::vector<int>> rows;
-  rows.reserve(table.size());
-  for (const auto& row : table) {
-    std::vector<int> r;
-    r.reserve(row.size());
-    for (const int v : row) r.push_back(v - 1);
-    rows.push_back(std::move(r));
-  }
-  return OrthogonalArray(std::move(name), std::move(levels_per_column), rows);
-}
+OrthogonalArray from_one_based(std::string name,
+                               std::vector<int> levels_per_column,
+                               std::initializer_list<std::initializer_list<int>> table);
 
 }  // namespace detail
 
 /// Taguchi's standard L9 (3^4): 9 runs, 4 three-level columns. Setup only.
-inline OrthogonalArray taguchi_l9() {
-  return detail::from_one_based("L9",
-                                {3, 3, 3, 3},
-                                {
-                                    {1, 1, 1, 1},
-                                    {1, 2, 2, 2},
-                                    {1, 3, 3, 3},
-                                    {2, 1, 2, 3},
-                                    {2, 2, 3, 1},
-                                    {2, 3, 1, 2},
-                                    {3, 1, 3, 2},
-                                    {3, 2, 1, 3},
-                                    {3, 3, 2, 1},
-                                });
-}
+OrthogonalArray taguchi_l9();
 
 /// Taguchi's standard L18 (2^1 x 3^7): 18 runs; column 0 has 2 levels, columns 1..7 have 3.
 /// Cell for cell the published table, written 1-based below (its columns c1..c8 are 0..7
 /// here). Which factor goes on which column is not part of the array: the project puts PV, PD,
 /// AV, AD on c2..c5 and Y on c6, see paper_l18_assignment() in designs.hpp. Setup only.
-inline OrthogonalArray taguchi_l18() {
-  return detail::from_one_based("L18",
-                                {2, 3, 3, 3, 3, 3, 3, 3},
-                                {
-                                    {1, 1, 1, 1, 1, 1, 1, 1},
-                                    {1, 1, 2, 2, 2, 2, 2, 2},
-                                    {1, 1, 3, 3, 3, 3, 3, 3},
-                                    {1, 2, 1, 1, 2, 2, 3, 3},
-                                    {1, 2, 2, 2, 3, 3, 1, 1},
-                                    {1, 2, 3, 3, 1, 1, 2, 2},
-                                    {1, 3, 1, 2, 1, 3, 2, 3},
-                                    {1, 3, 2, 3, 2, 1, 3, 1},
-                                    {1, 3, 3, 1, 3, 2, 1, 2},
-                                    {2, 1, 1, 3, 3, 2, 2, 1},
-                                    {2, 1, 2, 1, 1, 3, 3, 2},
-                                    {2, 1, 3, 2, 2, 1, 1, 3},
-                                    {2, 2, 1, 2, 3, 1, 3, 2},
-                                    {2, 2, 2, 3, 1, 2, 1, 3},
-                                    {2, 2, 3, 1, 2, 3, 2, 1},
-                                    {2, 3, 1, 3, 2, 3, 1, 2},
-                                    {2, 3, 2, 1, 3, 1, 2, 3},
-                                    {2, 3, 3, 2, 1, 2, 3, 1},
-                                });
-}
+OrthogonalArray taguchi_l18();
 
 /// Taguchi's standard L27 (3^13): 27 runs, 13 three-level columns. With (a, b, c) the base-3
 /// digits of the 0-based run index (a most significant), the columns are, mod 3:
 /// a, b, a+b, 2a+b, c, a+c, 2a+c, b+c, a+b+c, 2a+b+c, 2b+c, a+2b+c, 2a+2b+c. Setup only.
-inline OrthogonalArray taguchi_l27() {
-  return detail::from_one_based(
-      "L27",
-      std::vector<int>(13, 3),
-      {
-          {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1}, {1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2},
-          {1, 1, 1, 1, 3, 3, 3, 3, 3, 3, 3, 3, 3}, {1, 2, 2, 2, 1, 1, 1, 2, 2, 2, 3, 3, 3},
-          {1, 2, 2, 2, 2, 2, 2, 3, 3, 3, 1, 1, 1}, {1, 2, 2, 2, 3, 3, 3, 1, 1, 1, 2, 2, 2},
-          {1, 3, 3, 3, 1, 1, 1, 3, 3, 3, 2, 2, 2}, {1, 3, 3, 3, 2, 2, 2, 1, 1, 1, 3, 3, 3},
-          {1, 3, 3, 3, 3, 3, 3, 2, 2, 2, 1, 1, 1}, {2, 1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3},
-          {2, 1, 2, 3, 2, 3, 1, 2, 3, 1, 2, 3, 1}, {2, 1, 2, 3, 3, 1, 2, 3, 1, 2, 3, 1, 2},
-          {2, 2, 3, 1, 1, 2, 3, 2, 3, 1, 3, 1, 2}, {2, 2, 3, 1, 2, 3, 1, 3, 1, 2, 1, 2, 3},
-          {2, 2, 3, 1, 3, 1, 2, 1, 2, 3, 2, 3, 1}, {2, 3, 1, 2, 1, 2, 3, 3, 1, 2, 2, 3, 1},
-          {2, 3, 1, 2, 2, 3, 1, 1, 2, 3, 3, 1, 2}, {2, 3, 1, 2, 3, 1, 2, 2, 3, 1, 1, 2, 3},
-          {3, 1, 3, 2, 1, 3, 2, 1, 3, 2, 1, 3, 2}, {3, 1, 3, 2, 2, 1, 3, 2, 1, 3, 2, 1, 3},
-          {3, 1, 3, 2, 3, 2, 1, 3, 2, 1, 3, 2, 1}, {3, 2, 1, 3, 1, 3, 2, 2, 1, 3, 3, 2, 1},
-          {3, 2, 1, 3, 2, 1, 3, 3, 2, 1, 1, 3, 2}, {3, 2, 1, 3, 3, 2, 1, 1, 3, 2, 2, 1, 3},
-          {3, 3, 2, 1, 1, 3, 2, 3, 2, 1, 2, 1, 3}, {3, 3, 2, 1, 2, 1, 3, 1, 3, 2, 3, 2, 1},
-          {3, 3, 2, 1, 3, 2, 1, 2, 1, 3, 1, 3, 2},
-      });
-}
+OrthogonalArray taguchi_l27();
 
 /// True when every level of `column` appears equally often (runs divisible by its level
 /// count). Setup only. @throws std::out_of_range for a bad column.
-inline bool column_is_balanced(const OrthogonalArray& oa, int column) {
-  const int levels = oa.levels(column);
-  if (oa.runs() % levels != 0) return false;
-  std::vector<int> count(static_cast<std::size_t>(levels), 0);
-  for (int r = 0; r < oa.runs(); ++r) ++count[static_cast<std::size_t>(oa.level(r, column))];
-  for (const int n : count) {
-    if (n != oa.runs() / levels) return false;
-  }
-  return true;
-}
+bool column_is_balanced(const OrthogonalArray& oa, int column);
 
 /// True when the array has strength 2: every column is balanced and, for every pair of
 /// columns, each of the levels_i x levels_j level combinations appears equally often.
 /// Setup only.
-inline bool is_orthogonal(const OrthogonalArray& oa) {
-  for (int i = 0; i < oa.columns(); ++i) {
-    if (!column_is_balanced(oa, i)) return false;
-  }
-  for (int i = 0; i < oa.columns(); ++i) {
-    for (int j = i + 1; j < oa.columns(); ++j) {
-      const int li = oa.levels(i);
-      const int lj = oa.levels(j);
-      if (oa.runs() % (li * lj) != 0) return false;
-      std::vector<int> count(static_cast<std::size_t>(li * lj), 0);
-      for (int r = 0; r < oa.runs(); ++r) {
-        const int cell = oa.level(r, i) * lj + oa.level(r, j);
-        ++count[static_cast<std::size_t>(cell)];
-      }
-      for (const int n : count) {
-        if (n != oa.runs() / (li * lj)) return false;
-      }
-    }
-  }
-  return true;
-}
+bool is_orthogonal(const OrthogonalArray& oa);
 
 }  // namespace cmmcomp::doe
