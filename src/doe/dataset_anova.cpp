@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @file The bodies of include/cmmcomp/doe/dataset_anova.hpp.
+#include <fmt/format.h>
+
+#include <cmath>
 #include <cmmcomp/doe/dataset_anova.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
 
 namespace cmmcomp::doe {
 
@@ -60,6 +65,70 @@ DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
   out.rae = doe::anova(names, counts, indices, means[3], options);
   out.runs = static_cast<int>(order.size());
   out.samples = static_cast<int>(rows.size());
+  return out;
+}
+
+namespace {
+
+nlohmann::json table_json(const AnovaTable& t) {
+  nlohmann::json j;
+  const auto row = [](const AnovaRow& r) {
+    nlohmann::json o{{"ss", r.sum_of_squares},
+                     {"dof", r.dof},
+                     {"weight_pct", r.weight_percent},
+                     {"pooled", r.pooled}};
+    o["f"] = r.has_f && std::isfinite(r.f_value) ? nlohmann::json(r.f_value) : nlohmann::json();
+    return o;
+  };
+  for (const auto& f : t.factors) j[f.source] = row(f);
+  j["error"] = row(t.error);
+  j["total"] = row(t.total);
+  return j;
+}
+
+}  // namespace
+
+std::string format_dataset_anova_json(const DatasetAnova& a) {
+  const nlohmann::json j{{"runs", a.runs},
+                         {"samples", a.samples},
+                         {"mpe", table_json(a.mpe)},
+                         {"rpe", table_json(a.rpe)},
+                         {"mae", table_json(a.mae)},
+                         {"rae", table_json(a.rae)}};
+  return j.dump(2);
+}
+
+std::string format_dataset_anova(const DatasetAnova& a, const std::string& source) {
+  std::string out = fmt::format(
+      "ANOVA of {}: {} runs (repeats averaged), {} samples; responses MPE, |RPE|, MAE, "
+      "|RAE| [um]\n\n",
+      source,
+      a.runs,
+      a.samples);
+  out += fmt::format("{:<8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+                     "factor",
+                     "MPE w%",
+                     "MPE F",
+                     "RPE w%",
+                     "RPE F",
+                     "MAE w%",
+                     "MAE F",
+                     "RAE w%",
+                     "RAE F");
+  const AnovaTable* tables[] = {&a.mpe, &a.rpe, &a.mae, &a.rae};
+  for (std::size_t f = 0; f <= a.mpe.factors.size(); ++f) {
+    const bool error_row = f == a.mpe.factors.size();
+    out += fmt::format("{:<8}", error_row ? std::string("error") : a.mpe.factors[f].source);
+    for (const AnovaTable* t : tables) {
+      const AnovaRow& r = error_row ? t->error : t->factors[f];
+      if (!error_row && r.has_f && std::isfinite(r.f_value)) {
+        out += fmt::format(" {:9.2f} {:9.2f}", r.weight_percent, r.f_value);
+      } else {
+        out += fmt::format(" {:9.2f} {:>9}", r.weight_percent, "-");
+      }
+    }
+    out += "\n";
+  }
   return out;
 }
 

@@ -226,4 +226,41 @@ SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, doub
   return result;
 }
 
+std::string format_move_json(const errors::DynamicErrors& e) {
+  return fmt::format(
+      "{{\"mpe_um\": {:.6f}, \"rpe_um\": {:.6f}, \"mae_um\": {:.6f}, \"rae_um\": {:.6f}}}",
+      e.mpe,
+      e.rpe,
+      e.mae,
+      e.rae);
+}
+
+std::string format_move_report(const Machine& machine,
+                               const SimulationResult& r,
+                               const errors::DynamicErrors& e,
+                               bool cvode) {
+  std::string out = fmt::format("machine: {}\n", machine.name);
+  out += fmt::format("MPE {:9.3f} um\nRPE {:9.3f} um\nMAE {:9.3f} um\nRAE {:9.3f} um\n",
+                     e.mpe,
+                     e.rpe,
+                     e.mae,
+                     e.rae);
+  out += fmt::format(
+      "(RPE at the deceleration start, {:.4f} s; MAE from the approach start after the {:.3f} s "
+      "dwell, {:.4f} s; RAE at the touch, {:.4f} s)\n",
+      r.instants.positioning_decel_start,
+      machine.parameters.controller_dwell_s,
+      r.instants.approach_start,
+      r.instants.touch);
+  if (cvode) {
+    out += fmt::format(
+        "(CVODE: {} steps, {} right-hand-side evaluations)\n", r.stats.steps, r.stats.rhs_evals);
+  } else {
+    out += fmt::format("(exponential integrator: {} steps, {} matrix exponentials)\n",
+                       r.stats.steps,
+                       r.stats.matrix_exponentials);
+  }
+  return out;
+}
+
 }  // namespace cmmcomp::dynamics

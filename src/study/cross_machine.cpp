@@ -12,6 +12,7 @@
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/study/cross_machine.hpp>
 #include <cmmcomp/study/train.hpp>
+#include <cstdlib>
 #include <filesystem>
 
 namespace cmmcomp::study {
@@ -48,9 +49,28 @@ CampaignSetup::CampaignSetup() {
 CrossMachineResult cross_machine(const std::vector<StudyMachine>& machines,
                                  const io::CompensationModelFile& shipped,
                                  const CampaignSetup& setup,
-                                 const std::string& work_dir,
+                                 const std::string& work,
                                  const RunOptions& options) {
   if (machines.empty()) throw ConfigError("cross-machine: no machine");
+  // Without a work folder, a temporary one that is removed afterwards.
+  std::string work_dir = work;
+  if (work_dir.empty()) {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "cmmcomp-cross-machine-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) {
+      throw Error("cannot create a temporary folder in " +
+                  std::filesystem::temp_directory_path().string());
+    }
+    work_dir = pattern;
+  }
+  struct Remove {
+    bool on;
+    std::string dir;
+    ~Remove() {
+      std::error_code ec;
+      if (on) std::filesystem::remove_all(dir, ec);
+    }
+  } remove{work.empty(), work_dir};
   CrossMachineResult out;
   out.shipped_model_id = io::model_id(shipped);
   std::string design = setup.plan.design;
@@ -123,6 +143,41 @@ CrossMachineResult cross_machine(const std::vector<StudyMachine>& machines,
     out.rows.push_back(std::move(row));
   }
   return out;
+}
+
+void parse_campaign_plan(const std::string& text, CampaignSetup& setup) {
+  // "l18x3" or "lhsN": N digits, 1 to 999999 moves (no std::regex: GCC's maybe-uninitialized).
+  const std::string digits = text.rfind("lhs", 0) == 0 ? text.substr(3) : std::string();
+  const bool lhs = !digits.empty() && digits.size() <= 6 &&
+                   digits.find_first_not_of("0123456789") == std::string::npos &&
+                   std::stoi(digits) > 0;
+  if (lhs) {
+    setup.plan.design = "lhs";
+    setup.plan.lhs_samples = std::stoi(digits);
+    setup.plan.repeats = 1;
+  } else if (text != "l18x3") {
+    throw ConfigError("--plan takes l18x3 or lhsN (N moves, 1 to 999999), not '" + text + "'");
+  }
+}
+
+std::vector<StudyMachine> study_machines(const std::vector<std::string>& paths,
+                                         const std::vector<std::string>& differ) {
+  std::vector<StudyMachine> list;
+  list.reserve(paths.size());
+  for (const std::string& m : paths) {
+    StudyMachine sm;
+    sm.path = m;
+    sm.name = m == "default" ? m : std::filesystem::path(m).stem().string();
+    sm.dynamics_differ = std::find(differ.begin(), differ.end(), sm.name) != differ.end();
+    list.push_back(sm);
+  }
+  for (const std::string& d : differ) {
+    if (std::none_of(
+            list.begin(), list.end(), [&](const StudyMachine& m) { return m.name == d; })) {
+      throw ConfigError("--dynamics-differ " + d + ": no --machine of that name");
+    }
+  }
+  return list;
 }
 
 }  // namespace cmmcomp::study

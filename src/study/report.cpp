@@ -586,4 +586,33 @@ std::string command_line(int argc, const char* const* argv) {
   return out;
 }
 
+Publication publish(const Document& result,
+                    std::vector<Target> targets,
+                    const ReportOptions& options) {
+  const KnownUnmet known =
+      options.known_unmet.empty() ? KnownUnmet{} : read_known_unmet(options.known_unmet);
+  const Verdict v = check(targets, known);
+  Document doc{{"experiment", result["experiment"]},
+               {"block", options.block.empty() ? result["experiment"] : Document(options.block)},
+               {"command", options.command}};
+  doc.update(result);
+  add_verdict(doc, targets, v);
+  Publication out;
+  out.text = options.json ? doc.dump(2) : render_markdown(doc);
+  out.status = v.passed ? 0 : 1;
+  if (options.page.empty()) return out;
+  const PageSync sync = sync_page(options.page, doc, options.update_page);
+  const std::string block = doc["block"].get<std::string>();
+  if (!sync.current && options.update_page) {
+    out.note = "cmmcomp-study: updated the block \"" + block + "\" of " + options.page;
+  } else if (!sync.current) {
+    out.note = "cmmcomp-study: the block \"" + block + "\" of " + options.page +
+               " is stale: this run renders it differently, first at\n" + sync.first_difference +
+               "\nRegenerate it (scripts/regenerate-results.sh, or this command with "
+               "--update-page) and commit the page.";
+    out.status = 1;
+  }
+  return out;
+}
+
 }  // namespace cmmcomp::study

@@ -2,28 +2,16 @@
 /// @file A recipe's network as a model file (include/cmmcomp/study/train.hpp).
 #include <fmt/format.h>
 
-#include <cctype>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cmmcomp/io/sha256.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/study/train.hpp>
+#include <cmmcomp/training/trained_model_file.hpp>
 #include <cmmcomp/version.hpp>
 
 namespace cmmcomp::study {
 namespace {
-
-template <typename Inputs>
-std::string inputs_text() {
-  std::string s;
-  for (const char* label : Inputs::labels()) {
-    if (!s.empty()) s += ',';
-    for (const char* c = label; *c != '\0'; ++c) {
-      s += static_cast<char>(std::tolower(static_cast<unsigned char>(*c)));
-    }
-  }
-  return s;
-}
 
 template <typename Inputs>
 TrainedModel train_with(const Recipe& recipe,
@@ -35,35 +23,11 @@ TrainedModel train_with(const Recipe& recipe,
   if (recipe.fit.max_iterations) o.max_iterations = *recipe.fit.max_iterations;
   const std::optional<std::string> folds =
       overrides.interval_folds ? overrides.interval_folds : recipe.fit.interval_folds;
-  if (folds) {
-    bool known = false;
-    for (const IntervalFolds f :
-         {IntervalFolds::kRidge, IntervalFolds::kAsServed, IntervalFolds::kNarrower}) {
-      if (*folds == to_string(f)) {
-        o.interval_folds = f;
-        known = true;
-      }
-    }
-    if (!known) throw ConfigError("interval folds '" + *folds + "': ridge, as-served or narrower");
-  }
+  if (folds) o.interval_folds = parse_interval_folds(*folds);
   if (overrides.interval_coverage) o.interval_coverage = *overrides.interval_coverage;
   auto result = train_network<Inputs>(rows, o);
   if (!result.summary.usable()) {
     throw Error(recipe.source + ": the trained network is not usable: " + result.summary.message);
-  }
-  io::ModelFileOf<Inputs> file;
-  file.model = result.model;
-  file.training.data_file_sha256 = io::sha256_hex(io::format_dataset_csv(rows));
-  file.training.method = to_string(result.summary.method);
-  file.training.lambda = result.summary.lambda;
-  file.training.cv_rmse = result.summary.cv_rmse;
-  file.training.trained_at = io::utc_timestamp_now();
-  file.training.seed = recipe.fit.seed;
-  file.training.tool_version = std::string("cmmcomp-study ") + CMMCOMP_VERSION_STRING;
-  file.interval = result.interval;
-  if (result.interval.available()) {
-    file.interval_method = interval_method(result.summary.interval_folds);
-    file.interval_samples = result.summary.interval_samples;
   }
   io::TrainingConditions c = io::dataset_conditions(rows);
   const dynamics::Machine machine = recipe_machine(recipe);
@@ -72,7 +36,12 @@ TrainedModel train_with(const Recipe& recipe,
   c.smoothing_s = machine.parameters.controller_smoothing_s;
   c.axis = recipe.axis;
   if (recipe.noise) c.noise_floor.assign(paper::kTable1Std.begin(), paper::kTable1Std.end());
-  file.conditions = c;
+  const io::ModelFileOf<Inputs> file =
+      model_file(result,
+                 Provenance{io::sha256_hex(io::format_dataset_csv(rows)),
+                            recipe.fit.seed,
+                            std::string("cmmcomp-study ") + CMMCOMP_VERSION_STRING},
+                 c);
   // Through the file's text: the checksum and id are what a saved file has.
   TrainedModel out{io::parse_compensation_model(io::format_model_json(file), recipe.source),
                    result.summary,
@@ -88,7 +57,8 @@ TrainedModel train_model(const Recipe& recipe,
   std::optional<TrainedModel> out;
   for_each_input_set(ServedInputSets{}, [&](auto set) {
     using Inputs = decltype(set);
-    if (recipe.inputs == inputs_text<Inputs>()) out = train_with<Inputs>(recipe, rows, overrides);
+    if (recipe.inputs == training::input_set_name<Inputs>())
+      out = train_with<Inputs>(recipe, rows, overrides);
   });
   if (!out) {
     throw ConfigError(recipe.source + ": inputs '" + recipe.inputs +

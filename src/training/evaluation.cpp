@@ -7,6 +7,7 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/training/evaluation.hpp>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace cmmcomp::training {
@@ -143,6 +144,110 @@ Fig5Plot fig5_plot(const TestSetPredictions& p,
   }
   g += "unset multiplot\n";
   return plot;
+}
+
+namespace {
+
+/// Mean half-width per parameter over the test set [µm].
+std::array<double, kErrors.size()> mean_half_width(const TestSetEvaluation& e) {
+  std::array<double, kErrors.size()> u{};
+  for (std::size_t o = 0; o < kErrors.size(); ++o) {
+    for (const double h : e.predictions.half_width[o]) u[o] += h;
+    u[o] /= static_cast<double>(e.samples);
+  }
+  return u;
+}
+
+}  // namespace
+
+std::string format_test_set_json(const TestSetEvaluation& e,
+                                 const TestSetReportHeader& header,
+                                 const HeldOutCheck* check) {
+  const auto u = mean_half_width(e);
+  nlohmann::json j;
+  for (std::size_t o = 0; o < kErrors.size(); ++o) {
+    const Table5Row& t = e.table[o];
+    j[kErrors[o].key] = {{"mean_before_um", t.mean_before},
+                         {"mean_after_um", t.mean_after},
+                         {"reduction_pct", t.reduction_pct},
+                         {"var_after_um2", t.var_after},
+                         {"max_abs_residual_um", t.max_abs}};
+    if (header.nominal_coverage > 0) {
+      j[kErrors[o].key]["coverage_pct"] = e.coverage_pct[o];
+      j[kErrors[o].key]["mean_u95_um"] = u[o];
+    }
+  }
+  j["interval_coverage_nominal_pct"] = 100.0 * header.nominal_coverage;
+  if (check != nullptr) {
+    j["check"] = {{"passed", check->passed},
+                  {"missed", check->missed},
+                  {"coverage_band_pct", check->coverage_band_pct}};
+  }
+  j["samples"] = e.samples;
+  j["outside_domain"] = e.outside;
+  return j.dump(2);
+}
+
+std::string format_test_set_report(const TestSetEvaluation& e,
+                                   const TestSetReportHeader& header,
+                                   const HeldOutCheck* check) {
+  std::string out = fmt::format(
+      "model {} ({} inputs) on {}: {} samples ({} outside the training ranges, clamped)\n",
+      header.model_id,
+      header.inputs,
+      header.data_label,
+      e.samples,
+      e.outside);
+  out += "Table 5 layout; in brackets the paper's Table 5\n";
+  out += fmt::format("{:<5} {:>20} {:>20} {:>20} {:>20} {:>12}\n",
+                     "",
+                     "mean before um",
+                     "mean after um",
+                     "reduction %",
+                     "variance after um2",
+                     "max |res| um");
+  for (std::size_t o = 0; o < kErrors.size(); ++o) {
+    const Table5Row& t = e.table[o];
+    out += fmt::format(
+        "{:<5} {:11.3f} ({:6.3f}) {:11.3f} ({:6.3f}) {:11.1f} ({:6.1f}) {:11.3f} ({:6.3f}) "
+        "{:12.3f}\n",
+        kErrors[o].label,
+        t.mean_before,
+        paper::kTable5MeanBefore[o],
+        t.mean_after,
+        paper::kTable5MeanAfter[o],
+        t.reduction_pct,
+        paper::kTable5Reduction[o],
+        t.var_after,
+        paper::kTable5VarianceAfter[o],
+        t.max_abs);
+  }
+  if (header.nominal_coverage > 0) {
+    const auto u = mean_half_width(e);
+    out += fmt::format(
+        "prediction interval (nominal coverage {:.0f} %): measured within predicted +- U\n",
+        100.0 * header.nominal_coverage);
+    for (std::size_t o = 0; o < kErrors.size(); ++o) {
+      out += fmt::format("{:<5} coverage {:5.1f} %  mean U {:.3f} um\n",
+                         kErrors[o].label,
+                         e.coverage_pct[o],
+                         u[o]);
+    }
+  } else {
+    out += fmt::format("prediction interval: the model has none (format version {})\n",
+                       header.format_version);
+  }
+  if (check != nullptr) {
+    out += fmt::format(
+        "held-out check (each reduction >= the paper's Table 5, each coverage within "
+        "{:.0f} +- {:.1f} % for {} samples): {}{}\n",
+        100.0 * header.nominal_coverage,
+        check->coverage_band_pct,
+        e.samples,
+        check->passed ? "PASS" : "FAIL: ",
+        check->missed);
+  }
+  return out;
 }
 
 }  // namespace cmmcomp::training

@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/training/fnn_trainer.hpp>
 #include <cstddef>
 #include <string>
@@ -61,6 +62,14 @@ std::string interval_method(const std::vector<IntervalFolds>& used,
   }
   return "split-conformal on design-point-grouped CV residuals (" + which +
          "); extrapolation gain from held-out ends";
+}
+
+IntervalFolds parse_interval_folds(const std::string& text) {
+  for (const IntervalFolds f :
+       {IntervalFolds::kRidge, IntervalFolds::kAsServed, IntervalFolds::kNarrower}) {
+    if (text == to_string(f)) return f;
+  }
+  throw ConfigError("interval folds '" + text + "': ridge, as-served or narrower");
 }
 
 std::string interval_method(const std::vector<IntervalFolds>& used) {

@@ -526,4 +526,51 @@ GridMeanTargets read_grid_mean_targets(const std::string& path) {
   return t;
 }
 
+std::string format_identification_report(const IdentificationReport& r,
+                                         const std::string& machine_name,
+                                         const std::string& data_label) {
+  std::string out = fmt::format(
+      "identification of '{}' from {}: {} iterations, cost {:.6g} -> "
+      "{:.6g} ({})\n\n",
+      machine_name,
+      data_label,
+      r.iterations,
+      r.initial_cost,
+      r.final_cost,
+      r.termination);
+  out += fmt::format("{:<42} {:>14} {:>14}\n", "parameter", "start", "fitted");
+  for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
+    out += fmt::format("{:<42} {:14.6g} {:14.6g}{}\n",
+                       r.free_parameters[i],
+                       r.start_values[i],
+                       r.fitted_values[i],
+                       r.at_bound[i] < 0   ? "  AT PLAUSIBLE MIN"
+                       : r.at_bound[i] > 0 ? "  AT PLAUSIBLE MAX"
+                                           : "");
+  }
+  out +=
+      fmt::format("\n{:<42} {:>10} {:>10} {:>10}\n", "residual", "target", "fitted", "(f-t)/sigma");
+  for (const IdentificationResidual& res : r.residuals) {
+    out += fmt::format(
+        "{:<42} {:10.3f} {:10.3f} {:10.2f}\n", res.name, res.target, res.fitted, res.normalized);
+  }
+  return out;
+}
+
+std::vector<std::string> bound_warnings(const IdentificationReport& r) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
+    if (r.at_bound[i] == 0) continue;
+    out.push_back(fmt::format(
+        "{} ended at its plausible {} {:g}: the data want a value outside the plausible range, "
+        "so a mechanism is missing from the model or a fixed key is wrong (check the "
+        "controller timing measured by cmmcomp-measure extract); the machine file is written, "
+        "but treat it with care",
+        r.free_parameters[i],
+        r.at_bound[i] < 0 ? "minimum" : "maximum",
+        r.bound_values[i]));
+  }
+  return out;
+}
+
 }  // namespace cmmcomp::training

@@ -11,6 +11,7 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/dataset_csv.hpp>
 #include <cmmcomp/io/file_io.hpp>
+#include <cmmcomp/measure/campaign.hpp>
 #include <cmmcomp/measure/extract.hpp>
 #include <cmmcomp/measure/plan.hpp>
 #include <cmmcomp/measure/twin_recording.hpp>
@@ -82,11 +83,8 @@ int run_plan(PlanCommand cmd) {
       cmd.out.c_str());
   if (cmd.holdout > 0) {
     // The check on the user's machine: moves the model never sees, spread over the same box.
-    measure::PlanOptions held = cmd.options;
-    held.design = "lhs";
-    held.lhs_samples = cmd.holdout;
-    held.repeats = 1;
-    held.seed = cmd.holdout_seed != 0 ? cmd.holdout_seed : cmd.options.seed + 1;
+    const measure::PlanOptions held =
+        measure::holdout_plan(cmd.options, cmd.holdout, cmd.holdout_seed);
     const std::vector<measure::PlannedMove> check = write_plan(held, cmd.out + "/holdout");
     std::printf(
         "planned %zu held-out moves (lhs design, seed %llu) to %s/holdout: record and extract "
@@ -105,8 +103,6 @@ struct ExtractCommand {
   double timing_tolerance_ms = 10.0;
 };
 
-std::string seconds(double v) { return std::isnan(v) ? "-" : fmt::format("{:.3f} s", v); }
-
 int run_extract(ExtractCommand cmd) {
   if (!cmd.machine_path.empty()) {
     const cmmcomp::dynamics::Machine m = cmmcomp::dynamics::load_machine(cmd.machine_path);
@@ -118,43 +114,10 @@ int run_extract(ExtractCommand cmd) {
       cmd.options.smoothing_s = m.parameters.controller_smoothing_s;
   }
   const std::vector<measure::PlannedMove> plan = measure::read_plan_csv(cmd.plan);
-  std::vector<measure::MoveRecording> recordings;
-  const std::string dir = cmd.recordings + "/";
-  if (!std::filesystem::is_directory(cmd.recordings)) {
-    throw cmmcomp::ConfigError("--recordings " + cmd.recordings + ": not a directory");
-  }
-  const bool session_one = std::filesystem::exists(dir + measure::kSessionFile);
-  const bool session_two = std::filesystem::exists(dir + measure::kSessionControllerFile);
-  if (session_one || session_two) {
-    // One continuous recording of the whole plan: the moves are found in it in run order.
-    const measure::SessionRecording session = measure::read_session_recording(
-        dir + (session_one ? measure::kSessionFile : measure::kSessionControllerFile),
-        session_one ? "" : dir + measure::kSessionTrackerFile,
-        plan.front().axis);
-    const measure::SessionSplit split = measure::split_session(plan, session, cmd.options);
-    recordings = split.moves;
-    if (split.sync.fitted) {
-      cmd.options.known_clock = true;
-      cmd.options.clock_offset_s = split.sync.offset_s;
-      cmd.options.clock_drift = split.sync.drift;
-      cmd.options.known_clock_source = "sync markers";
-    }
-    int found = 0;
-    for (const measure::MoveRecording& r : recordings) found += r.problem.empty();
-    std::printf(
-        "session %s: %d of %zu planned moves found", session.source.c_str(), found, plan.size());
-    if (split.sync.fitted) {
-      std::printf(", tracker clock from %d sync markers", split.sync.sync_markers);
-    } else if (!session.one_clock) {
-      std::printf(", tracker offset %.1f ms from the speeds", split.coarse_offset_s * 1e3);
-    }
-    std::printf("\n");
-  } else {
-    for (const measure::PlannedMove& m : plan) {
-      recordings.push_back(measure::read_planned_recording(dir, m));
-    }
-  }
-  const measure::Extraction ex = measure::extract_moves(plan, recordings, cmd.options);
+  const measure::CampaignRecordings recordings =
+      measure::read_campaign_recordings(plan, cmd.recordings, cmd.options);
+  if (!recordings.session_line.empty()) std::printf("%s\n", recordings.session_line.c_str());
+  const measure::Extraction ex = measure::extract_moves(plan, recordings.moves, cmd.options);
   const std::vector<cmmcomp::DatasetRow> rows = ex.rows();
   // The report and the summary are written whatever happens next: a refused run is explained.
   const std::string report = cmd.report.empty() ? cmd.output + ".report.csv" : cmd.report;
@@ -181,51 +144,12 @@ int run_extract(ExtractCommand cmd) {
   }
   if (rows.empty()) {
     std::fprintf(stderr,
-                 "cmmcomp-measure: no move could be extracted; the most frequent reason: %s\n"
-                 "(controller timing used: dwell %s, smoothing %s; measured on the traces: dwell "
-                 "%s, smoothing %s; per-move report: %s; summary: %s)\n",
-                 ex.most_frequent_reason().c_str(),
-                 seconds(ex.timing.dwell_s).c_str(),
-                 seconds(ex.timing.smoothing_s).c_str(),
-                 seconds(ex.timing.measured_dwell_s).c_str(),
-                 seconds(ex.timing.measured_smoothing_s).c_str(),
-                 report.c_str(),
-                 summary.c_str());
+                 "cmmcomp-measure: %s\n",
+                 measure::format_nothing_extracted(ex, report, summary).c_str());
     return 1;
   }
   cmmcomp::io::write_dataset_csv(cmd.output, rows);
-  std::printf("extracted %zu of %zu moves to %s; per-move report: %s; summary: %s\n",
-              rows.size(),
-              ex.moves.size(),
-              cmd.output.c_str(),
-              report.c_str(),
-              summary.c_str());
-  std::printf(
-      "controller timing: dwell %s (%s; the traces say %s), smoothing %s (%s; the traces say "
-      "%s), over %d moves\n",
-      seconds(ex.timing.dwell_s).c_str(),
-      ex.timing.dwell_given ? "given" : "measured",
-      seconds(ex.timing.measured_dwell_s).c_str(),
-      seconds(ex.timing.smoothing_s).c_str(),
-      ex.timing.smoothing_given ? "given" : "measured",
-      seconds(ex.timing.measured_smoothing_s).c_str(),
-      ex.timing.measured_moves);
-  if (ex.clock.source == "motion" && ex.clock.fitted) {
-    std::printf("tracker clock: offset %.3f ms, drift %.1f ppm, from the motion (±%.3f ms)\n",
-                ex.clock.offset_s * 1e3,
-                ex.clock.drift * 1e6,
-                ex.clock.uncertainty_ms);
-  } else if (ex.clock.source == "sync markers" && ex.clock.sync_markers > 0) {
-    std::printf("tracker clock: offset %.3f ms, drift %.1f ppm, from %d sync markers\n",
-                ex.clock.offset_s * 1e3,
-                ex.clock.drift * 1e6,
-                ex.clock.sync_markers);
-  }
-  std::map<std::string, int> reasons;
-  for (const measure::MoveExtraction& m : ex.moves) {
-    if (!m.ok) reasons[m.reason]++;
-  }
-  for (const auto& [reason, n] : reasons) std::printf("skipped %d: %s\n", n, reason.c_str());
+  std::printf("%s", measure::format_extraction_outcome(ex, cmd.output, report, summary).c_str());
   return 0;
 }
 

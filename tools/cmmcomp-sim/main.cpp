@@ -139,31 +139,9 @@ int run_move(const MoveCommand& cmd) {
   noise.seed = cmd.seed;
   const cmmcomp::errors::DynamicErrors e = add_noise(r.errors_um, noise, 0);
   if (cmd.json) {
-    std::printf("{\"mpe_um\": %.6f, \"rpe_um\": %.6f, \"mae_um\": %.6f, \"rae_um\": %.6f}\n",
-                e.mpe,
-                e.rpe,
-                e.mae,
-                e.rae);
+    std::printf("%s\n", format_move_json(e).c_str());
   } else {
-    std::printf("machine: %s\n", sim.machine().name.c_str());
-    std::printf(
-        "MPE %9.3f um\nRPE %9.3f um\nMAE %9.3f um\nRAE %9.3f um\n", e.mpe, e.rpe, e.mae, e.rae);
-    std::printf(
-        "(RPE at the deceleration start, %.4f s; MAE from the approach start after the %.3f s "
-        "dwell, %.4f s; RAE at the touch, %.4f s)\n",
-        r.instants.positioning_decel_start,
-        sim.machine().parameters.controller_dwell_s,
-        r.instants.approach_start,
-        r.instants.touch);
-    if (cmd.cvode) {
-      std::printf("(CVODE: %ld steps, %ld right-hand-side evaluations)\n",
-                  r.stats.steps,
-                  r.stats.rhs_evals);
-    } else {
-      std::printf("(exponential integrator: %ld steps, %ld matrix exponentials)\n",
-                  r.stats.steps,
-                  r.stats.matrix_exponentials);
-    }
+    std::printf("%s", format_move_report(sim.machine(), r, e, cmd.cvode).c_str());
   }
   if (!cmd.trace_path.empty()) {
     const std::string csv = cmmcomp::dynamics::format_trace_csv(r.trace);
@@ -254,65 +232,13 @@ int run_record(RecordCommand cmd) {
   return 0;
 }
 
-nlohmann::json table_json(const cmmcomp::doe::AnovaTable& t) {
-  nlohmann::json j;
-  auto row = [](const cmmcomp::doe::AnovaRow& r) {
-    nlohmann::json o{{"ss", r.sum_of_squares},
-                     {"dof", r.dof},
-                     {"weight_pct", r.weight_percent},
-                     {"pooled", r.pooled}};
-    o["f"] = r.has_f && std::isfinite(r.f_value) ? nlohmann::json(r.f_value) : nlohmann::json();
-    return o;
-  };
-  for (const auto& f : t.factors) j[f.source] = row(f);
-  j["error"] = row(t.error);
-  j["total"] = row(t.total);
-  return j;
-}
-
 int run_anova(const std::string& path, bool json) {
   const cmmcomp::doe::DatasetAnova a =
       cmmcomp::doe::anova_of_dataset(cmmcomp::io::read_dataset_csv(path));
-  if (json) {
-    nlohmann::json j{{"runs", a.runs},
-                     {"samples", a.samples},
-                     {"mpe", table_json(a.mpe)},
-                     {"rpe", table_json(a.rpe)},
-                     {"mae", table_json(a.mae)},
-                     {"rae", table_json(a.rae)}};
-    std::printf("%s\n", j.dump(2).c_str());
-    return 0;
-  }
-  std::printf(
-      "ANOVA of %s: %d runs (repeats averaged), %d samples; responses MPE, |RPE|, MAE, "
-      "|RAE| [um]\n\n",
-      path.c_str(),
-      a.runs,
-      a.samples);
-  std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s\n",
-              "factor",
-              "MPE w%",
-              "MPE F",
-              "RPE w%",
-              "RPE F",
-              "MAE w%",
-              "MAE F",
-              "RAE w%",
-              "RAE F");
-  const cmmcomp::doe::AnovaTable* tables[] = {&a.mpe, &a.rpe, &a.mae, &a.rae};
-  for (std::size_t f = 0; f <= a.mpe.factors.size(); ++f) {
-    const bool error_row = f == a.mpe.factors.size();
-    std::printf("%-8s", error_row ? "error" : a.mpe.factors[f].source.c_str());
-    for (const auto* t : tables) {
-      const cmmcomp::doe::AnovaRow& r = error_row ? t->error : t->factors[f];
-      if (!error_row && r.has_f && std::isfinite(r.f_value)) {
-        std::printf(" %9.2f %9.2f", r.weight_percent, r.f_value);
-      } else {
-        std::printf(" %9.2f %9s", r.weight_percent, "-");
-      }
-    }
-    std::printf("\n");
-  }
+  std::printf("%s%s",
+              json ? cmmcomp::doe::format_dataset_anova_json(a).c_str()
+                   : cmmcomp::doe::format_dataset_anova(a, path).c_str(),
+              json ? "\n" : "");
   return 0;
 }
 
@@ -363,39 +289,8 @@ int run_identify(const IdentifyCommand& cmd) {
     };
   }
   const IdentificationReport r = identify_machine(start, targets, options);
-  std::printf("identification of '%s' from %s: %d iterations, cost %.6g -> %.6g (%s)\n\n",
-              start.name.c_str(),
-              cmd.measured.c_str(),
-              r.iterations,
-              r.initial_cost,
-              r.final_cost,
-              r.termination.c_str());
-  std::printf("%-42s %14s %14s\n", "parameter", "start", "fitted");
-  for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
-    std::printf("%-42s %14.6g %14.6g%s\n",
-                r.free_parameters[i].c_str(),
-                r.start_values[i],
-                r.fitted_values[i],
-                r.at_bound[i] < 0   ? "  AT PLAUSIBLE MIN"
-                : r.at_bound[i] > 0 ? "  AT PLAUSIBLE MAX"
-                                    : "");
-  }
-  for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
-    if (r.at_bound[i] == 0) continue;
-    std::fprintf(stderr,
-                 "warning: %s ended at its plausible %s %g: the data want a value outside the "
-                 "plausible range, so a mechanism is missing from the model or a fixed key is "
-                 "wrong (check the controller timing measured by cmmcomp-measure extract); "
-                 "the machine file is written, but treat it with care\n",
-                 r.free_parameters[i].c_str(),
-                 r.at_bound[i] < 0 ? "minimum" : "maximum",
-                 r.bound_values[i]);
-  }
-  std::printf("\n%-42s %10s %10s %10s\n", "residual", "target", "fitted", "(f-t)/sigma");
-  for (const IdentificationResidual& res : r.residuals) {
-    std::printf(
-        "%-42s %10.3f %10.3f %10.2f\n", res.name.c_str(), res.target, res.fitted, res.normalized);
-  }
+  std::printf("%s", format_identification_report(r, start.name, cmd.measured).c_str());
+  for (const std::string& w : bound_warnings(r)) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (!r.usable) {
     std::fprintf(stderr, "cmmcomp-sim: the fit is not usable: %s\n", r.termination.c_str());
     return 1;

@@ -41,47 +41,14 @@ namespace {
 using cmmcomp::study::Document;
 using cmmcomp::study::Target;
 
-/// How an experiment reports: the command that ran it, JSON or Markdown, and the results page
-/// block it checks or updates.
-struct Output {
-  std::string command, block, known, page;
-  bool json = false, update_page = false;
-};
+using Output = cmmcomp::study::ReportOptions;
 
-/// Judges `targets`, prints the document (Markdown or JSON), checks or updates the page's block,
-/// and returns the exit status: 1 when a target fails or the page's block is stale.
-int finish(Document result, std::vector<Target>& targets, const Output& out) {
-  const cmmcomp::study::KnownUnmet known = out.known.empty()
-                                               ? cmmcomp::study::KnownUnmet{}
-                                               : cmmcomp::study::read_known_unmet(out.known);
-  const cmmcomp::study::Verdict v = cmmcomp::study::check(targets, known);
-  Document doc{{"experiment", result["experiment"]},
-               {"block", out.block.empty() ? result["experiment"] : Document(out.block)},
-               {"command", out.command}};
-  doc.update(result);
-  cmmcomp::study::add_verdict(doc, targets, v);
-  std::printf("%s\n",
-              out.json ? doc.dump(2).c_str() : cmmcomp::study::render_markdown(doc).c_str());
-  int status = v.passed ? 0 : 1;
-  if (!out.page.empty()) {
-    const cmmcomp::study::PageSync sync = cmmcomp::study::sync_page(out.page, doc, out.update_page);
-    if (!sync.current && out.update_page) {
-      std::fprintf(stderr,
-                   "cmmcomp-study: updated the block \"%s\" of %s\n",
-                   doc["block"].get<std::string>().c_str(),
-                   out.page.c_str());
-    } else if (!sync.current) {
-      std::fprintf(stderr,
-                   "cmmcomp-study: the block \"%s\" of %s is stale: this run renders it "
-                   "differently, first at\n%s\nRegenerate it (scripts/regenerate-results.sh, or "
-                   "this command with --update-page) and commit the page.\n",
-                   doc["block"].get<std::string>().c_str(),
-                   out.page.c_str(),
-                   sync.first_difference.c_str());
-      status = 1;
-    }
-  }
-  return status;
+/// Prints the experiment's publication and returns its exit status.
+int finish(const Document& result, const std::vector<Target>& targets, const Output& out) {
+  const cmmcomp::study::Publication p = cmmcomp::study::publish(result, targets, out);
+  std::printf("%s\n", p.text.c_str());
+  if (!p.note.empty()) std::fprintf(stderr, "%s\n", p.note.c_str());
+  return p.status;
 }
 
 cmmcomp::study::RunOptions run_options() {
@@ -171,8 +138,7 @@ int run_interval_coverage(const std::string& model,
                                         cmmcomp::study::load_recipe(recipe),
                                         variants,
                                         run_options());
-  std::vector<Target> targets = r.targets;
-  return finish(cmmcomp::study::interval_coverage_document(r), targets, out);
+  return finish(cmmcomp::study::interval_coverage_document(r), r.targets, out);
 }
 
 int run_qualified_sweep(const std::string& model,
@@ -184,66 +150,22 @@ int run_qualified_sweep(const std::string& model,
                                                        : cmmcomp::dynamics::load_machine(machine);
   const cmmcomp::study::SweepResult r = cmmcomp::study::qualified_sweep(
       cmmcomp::io::load_compensation_model(model), m, seeds, grid, run_options());
-  std::vector<Target> targets = r.targets;
-  return finish(cmmcomp::study::qualified_sweep_document(r), targets, out);
+  return finish(cmmcomp::study::qualified_sweep_document(r), r.targets, out);
 }
 
 int run_cross_machine(const std::vector<std::string>& machines,
                       const std::vector<std::string>& differ,
                       const std::string& shipped,
                       const std::string& plan,
-                      std::string work,
+                      const std::string& work,
                       const Output& out) {
   cmmcomp::study::CampaignSetup setup;
-  // "l18x3" or "lhsN": N digits, 1 to 999999 moves.
-  const std::string digits = plan.rfind("lhs", 0) == 0 ? plan.substr(3) : std::string();
-  const bool lhs = !digits.empty() && digits.size() <= 6 &&
-                   digits.find_first_not_of("0123456789") == std::string::npos &&
-                   std::stoi(digits) > 0;
-  if (lhs) {
-    setup.plan.design = "lhs";
-    setup.plan.lhs_samples = std::stoi(digits);
-    setup.plan.repeats = 1;
-  } else if (plan != "l18x3") {
-    throw cmmcomp::ConfigError("--plan takes l18x3 or lhsN (N moves, 1 to 999999), not '" + plan +
-                               "'");
-  }
-  std::vector<cmmcomp::study::StudyMachine> list;
-  for (const std::string& m : machines) {
-    cmmcomp::study::StudyMachine sm;
-    sm.path = m;
-    sm.name = m == "default" ? m : std::filesystem::path(m).stem().string();
-    sm.dynamics_differ = std::find(differ.begin(), differ.end(), sm.name) != differ.end();
-    list.push_back(sm);
-  }
-  for (const std::string& d : differ) {
-    if (std::none_of(list.begin(), list.end(), [&](const auto& m) { return m.name == d; })) {
-      throw cmmcomp::ConfigError("--dynamics-differ " + d + ": no --machine of that name");
-    }
-  }
-  // Without --work, a temporary folder that is removed afterwards.
-  const bool temporary = work.empty();
-  if (temporary) {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "cmmcomp-cross-machine-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) {
-      throw cmmcomp::Error("cannot create a temporary folder in " +
-                           std::filesystem::temp_directory_path().string());
-    }
-    work = pattern;
-  }
-  struct Remove {
-    bool on;
-    std::string dir;
-    ~Remove() {
-      std::error_code ec;
-      if (on) std::filesystem::remove_all(dir, ec);
-    }
-  } remove{temporary, work};
+  cmmcomp::study::parse_campaign_plan(plan, setup);
+  const std::vector<cmmcomp::study::StudyMachine> list =
+      cmmcomp::study::study_machines(machines, differ);
   const cmmcomp::study::CrossMachineResult r = cmmcomp::study::cross_machine(
       list, cmmcomp::io::load_compensation_model(shipped), setup, work, run_options());
-  std::vector<Target> targets = r.targets;
-  return finish(cmmcomp::study::cross_machine_document(r), targets, out);
+  return finish(cmmcomp::study::cross_machine_document(r), r.targets, out);
 }
 
 int run_calibration(const std::string& machine, std::uint64_t seed, int seeds, const Output& out) {
@@ -251,8 +173,7 @@ int run_calibration(const std::string& machine, std::uint64_t seed, int seeds, c
                                                        : cmmcomp::dynamics::load_machine(machine);
   const cmmcomp::study::CalibrationResult r =
       cmmcomp::study::paper_calibration(m, seed, seeds, run_options());
-  std::vector<Target> targets = r.targets;
-  return finish(cmmcomp::study::calibration_document(r), targets, out);
+  return finish(cmmcomp::study::calibration_document(r), r.targets, out);
 }
 
 int run_identify_multistart(const std::string& start,
@@ -336,7 +257,7 @@ static int run_tool(int argc, char** argv) {
   out.command = cmmcomp::study::command_line(argc, argv);
   // The reporting options of every experiment: the known-unmet list, JSON, the results page.
   const auto reporting = [&out](CLI::App* sub) {
-    sub->add_option("--known-unmet", out.known, "targets known to be unmet, one per line")
+    sub->add_option("--known-unmet", out.known_unmet, "targets known to be unmet, one per line")
         ->check(CLI::ExistingFile);
     sub->add_flag("--json", out.json, "print the results and the verdict as JSON");
     sub->add_option("--page", out.page, "check this results page's block (docs/results.md)")

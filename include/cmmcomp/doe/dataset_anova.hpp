@@ -35,4 +35,11 @@ inline constexpr std::array<const char*, 4> kAnovaFactors = PaperInputs::labels(
 DatasetAnova anova_of_dataset(const std::vector<DatasetRow>& rows,
                               const doe::AnovaOptions& options = {});
 
+/// The four tables as cmmcomp-sim anova prints them: one row per factor and the error, the
+/// weight [%] and F of each parameter ("-" where F is undefined); `source` names the data.
+std::string format_dataset_anova(const DatasetAnova& anova, const std::string& source);
+/// The same as JSON text (2-space indent): runs, samples, and per parameter (its key) each
+/// source's ss, dof, weight_pct, pooled and f (null where undefined).
+std::string format_dataset_anova_json(const DatasetAnova& anova);
+
 }  // namespace cmmcomp::doe

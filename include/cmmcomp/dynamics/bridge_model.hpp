@@ -16,6 +16,7 @@
 #include <cmmcomp/errors/dynamic_errors.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace cmmcomp::dynamics {
@@ -105,5 +106,15 @@ class BridgeSimulator {
 
 /// Number of states in the model (for documentation and tests).
 inline constexpr int kBridgeStateCount = 6;
+
+/// One simulated move as cmmcomp-sim move prints it: the machine, the four parameters `e` [µm]
+/// (with noise, when added), the instants they were taken at, and the integrator's effort.
+std::string format_move_report(const Machine& machine,
+                               const SimulationResult& result,
+                               const errors::DynamicErrors& e,
+                               bool cvode);
+/// The four parameters as one JSON object line: {"mpe_um": …, "rpe_um": …, "mae_um": …,
+/// "rae_um": …} (6 decimals).
+std::string format_move_json(const errors::DynamicErrors& e);
 
 }  // namespace cmmcomp::dynamics

@@ -56,11 +56,22 @@ struct CrossMachineResult {
   std::vector<Target> targets;  ///< "MACHINE: own mpe_reduction", "MACHINE: shipped model loses"
 };
 
-/// Runs the workflow (file comment) on each machine, its files under `work_dir/NAME/`.
+/// Runs the workflow (file comment) on each machine, its files under `work_dir/NAME/` (empty: a
+/// temporary folder, removed afterwards).
 CrossMachineResult cross_machine(const std::vector<StudyMachine>& machines,
                                  const io::CompensationModelFile& shipped,
                                  const CampaignSetup& setup,
                                  const std::string& work_dir,
                                  const RunOptions& options = {});
+
+/// "l18x3" (the default: L18 × 3) or "lhsN" (N Latin-hypercube moves, 1 to 999999, one
+/// repeat) into `setup.plan`. ConfigError naming the text otherwise.
+void parse_campaign_plan(const std::string& text, CampaignSetup& setup);
+
+/// The machines at `paths` ("default": the embedded one), each named by its file's stem;
+/// `differ` names those whose dynamics differ from the shipped model's machine. ConfigError for
+/// a name in `differ` that is no machine's.
+std::vector<StudyMachine> study_machines(const std::vector<std::string>& paths,
+                                         const std::vector<std::string>& differ);
 
 }  // namespace cmmcomp::study

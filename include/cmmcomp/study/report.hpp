@@ -70,4 +70,24 @@ PageSync sync_page(const std::string& path, const Document& doc, bool update);
 /// argument with a space quoted.
 std::string command_line(int argc, const char* const* argv);
 
+/// How an experiment reports: the command that ran it, JSON or Markdown, the known-unmet list
+/// (a path; empty: none) and the results page's block it checks or updates (empty page: none).
+struct ReportOptions {
+  std::string command, block, known_unmet, page;
+  bool json = false, update_page = false;
+};
+
+/// What publish() produced: the text for standard output, a note for standard error (empty:
+/// none) and the exit status (1 when a target fails or the page's block is stale).
+struct Publication {
+  std::string text, note;
+  int status = 0;
+};
+
+/// Judges `targets` against the known-unmet list, adds the verdict to `result` (named by its
+/// block), renders it (Markdown or JSON) and checks or updates the page's block.
+Publication publish(const Document& result,
+                    std::vector<Target> targets,
+                    const ReportOptions& options);
+
 }  // namespace cmmcomp::study

@@ -132,4 +132,24 @@ TestSetEvaluation evaluate_test_set(const Model& model,
   return e;
 }
 
+/// What a test-set report names besides the evaluation.
+struct TestSetReportHeader {
+  std::string model_id;
+  int inputs = 0;
+  std::string data_label;       ///< the test data's name (its path)
+  double nominal_coverage = 0;  ///< the model's interval coverage, 0 when it has none
+  int format_version = 0;       ///< of the model file
+};
+
+/// cmmcomp-train eval's report: Table 5 with the paper's in brackets, the interval's coverage
+/// and mean half-width per parameter, and with `check` (not null) the held-out verdict.
+std::string format_test_set_report(const TestSetEvaluation& e,
+                                   const TestSetReportHeader& header,
+                                   const HeldOutCheck* check);
+/// The same as JSON text (2-space indent): per parameter (its key) the Table 5 row and the
+/// coverage, the nominal coverage, the verdict when checked, the sample counts.
+std::string format_test_set_json(const TestSetEvaluation& e,
+                                 const TestSetReportHeader& header,
+                                 const HeldOutCheck* check);
+
 }  // namespace cmmcomp::training

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <cctype>
 #include <cmmcomp/compensation/move_prediction.hpp>
 #include <cmmcomp/fuzzy/prediction_interval.hpp>
 #include <cmmcomp/fuzzy/tsk_evaluator.hpp>
@@ -47,6 +48,9 @@ enum class IntervalFolds : std::uint8_t {
 
 /// "ridge", "as-served" or "narrower" (static strings).
 const char* to_string(IntervalFolds folds) noexcept;
+
+/// The IntervalFolds named `text` (to_string's names); ConfigError otherwise.
+IntervalFolds parse_interval_folds(const std::string& text);
 
 /// `ModelFile::interval_method` of a model calibrated by train_fnn (stage 5), naming the fold
 /// models each output's half-width came from (`TrainingSummary::interval_folds`), in the order
@@ -173,6 +177,20 @@ template <typename Inputs>
 std::vector<std::string> input_labels() {
   const auto labels = Inputs::labels();
   return {labels.begin(), labels.end()};
+}
+
+/// The name of `Inputs` in options and recipes: its labels in lower case, comma separated
+/// ("pv,pd,av,ad").
+template <typename Inputs>
+std::string input_set_name() {
+  std::string s;
+  for (const char* label : Inputs::labels()) {
+    if (!s.empty()) s += ',';
+    for (const char* c = label; *c != '\0'; ++c) {
+      s += static_cast<char>(std::tolower(static_cast<unsigned char>(*c)));
+    }
+  }
+  return s;
 }
 
 /// A network trained on the input set `Inputs` (a schema InputSet): the compensation model with

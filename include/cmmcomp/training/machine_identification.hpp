@@ -119,4 +119,14 @@ AnovaTargets read_anova_targets(const std::string& path);
 /// Throws ConfigError naming the file and line.
 GridMeanTargets read_grid_mean_targets(const std::string& path);
 
+/// The identification as cmmcomp-sim identify prints it: the cost, each free parameter's start
+/// and fitted value (marked at a plausible bound), and each residual against its target.
+/// `machine_name` names the start machine, `data_label` the measured moves.
+std::string format_identification_report(const IdentificationReport& report,
+                                         const std::string& machine_name,
+                                         const std::string& data_label);
+/// One warning per free parameter that ended at a plausible bound, naming the bound, what it
+/// means and what to check (empty: none did).
+std::vector<std::string> bound_warnings(const IdentificationReport& report);
+
 }  // namespace cmmcomp::training
