@@ -7,15 +7,15 @@
 #  - data/models/default-y.json, the same with the carriage position Y as fifth input:
 #    data/recipes/default-y-model.toml.
 # Both describe the SIMULATED machine, not a real one, and record their training conditions
-# (format 4, docs/model-file.md "Conditions"). The committed networks were trained on 2026-12-05
-# in format 3 and given their conditions on 2026-12-07 with `cmmcomp-train conditions` (the
-# 4-input LM fit is not bit-reproducible from run to run: its parameters move by up to 0.07, its
-# predictions stay within what default_model_reproducible allows). Deterministic otherwise: the
-# ctests default_model_retrain and *_model_reproducible retrain them this way and compare.
+# (format 4, docs/model-file.md "Conditions"). The committed networks were trained in format 3,
+# before the trainer's prior last changed, and later given their conditions with `cmmcomp-train
+# conditions`; a retrain today is a slightly different network, within what the ctest
+# default_model_retrain allows. Training is deterministic: two runs of a recipe give the same
+# network (only trained_at, and with it the checksum and id, differ); the ctests
+# default_model_retrain and *_model_reproducible retrain them this way and compare.
 # Usage: bash scripts/train-default-model.sh [output.json [output-y.json]]
 # (needs the release tools built). CMMCOMP_FIT_ARGS, if set, is appended to the 4-input
-# training: the sanitizer builds' default_model_retrain sets "--interval-folds ridge", since it
-# compares the networks only and the fold networks take minutes there (docs/uncertainty.md).
+# training (e.g. "--interval-folds ridge": seconds instead of the fold networks' minute).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="${1:-$here/data/models/default.json}"
