@@ -2,6 +2,7 @@
 /// @file A campaign as cmmcomp-measure runs it (include/cmmcomp/measure/campaign.hpp).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/measure/campaign.hpp>
@@ -73,9 +74,12 @@ std::string format_extraction_outcome(const Extraction& ex,
                                       const std::string& output,
                                       const std::string& report,
                                       const std::string& summary) {
+  // Called for a run that was not refused: the moves extracted are those marked ok.
+  const auto extracted =
+      std::count_if(ex.moves.begin(), ex.moves.end(), [](const MoveExtraction& m) { return m.ok; });
   std::string out =
       fmt::format("extracted {} of {} moves to {}; per-move report: {}; summary: {}\n",
-                  ex.rows().size(),
+                  extracted,
                   ex.moves.size(),
                   output,
                   report,
