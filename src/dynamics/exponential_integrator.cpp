@@ -212,16 +212,22 @@ void ExponentialIntegrator::advance(const motion::Segment& segment,
       derivatives(c_, cmd0, z0.data(), dy0);
       derivatives(c_, cmd1, z.data(), dy1);
       for (std::size_t i = 0; i < count; ++i) {
+        // In floating point t0 + s·h can round onto the step's ends or onto another sample.
+        if (!(interior[i].t > last_time_ && interior[i].t < t1)) continue;
         double yi[kStates];
         for (int j = 0; j < kStates; ++j) {
           const auto sj = static_cast<std::size_t>(j);
           yi[j] = hermite(interior[i].s, h, z0[sj], dy0[j], z[sj], dy1[j]);
         }
+        last_time_ = interior[i].t;
         sink(interior[i].t, yi);
       }
     }
     for (int i = 0; i < kStates; ++i) y[i] = z[static_cast<std::size_t>(i)];
-    sink(t1, y);
+    if (t1 > last_time_) {
+      last_time_ = t1;
+      sink(t1, y);
+    }
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 
 #include "bridge_equations.hpp"
 
@@ -40,7 +41,10 @@ class ExponentialIntegrator {
   /// Advances `y` (the model's states) from the start to the end of `segment`. Calls `sink`, in
   /// time order, at every extremum of the tip error inside a step (interpolated, cubic Hermite),
   /// at every multiple of `trace_dt` inside the segment when trace_dt > 0 (interpolated), and at
-  /// every step's end (exact), the segment's end included.
+  /// every step's end (exact), the segment's end included. The times `sink` sees are strictly
+  /// increasing over the integrator's life: a sample whose time rounds onto one already given (an
+  /// extremum at t0 + s·h with s close to 0 or 1, a grid point on an extremum, a segment shorter
+  /// than the time's resolution) is not given again; the state still advances.
   void advance(const motion::Segment& segment, double* y, double trace_dt, const Sink& sink);
 
   long steps() const noexcept { return steps_; }
@@ -62,6 +66,8 @@ class ExponentialIntegrator {
   long steps_ = 0;
   long exponentials_ = 0;
   long extrema_ = 0;
+  /// The last time given to a sink; samples at or before it are not given.
+  double last_time_ = -std::numeric_limits<double>::infinity();
 };
 
 }  // namespace cmmcomp::dynamics
