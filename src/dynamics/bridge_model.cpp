@@ -106,12 +106,36 @@ BridgeSimulator::~BridgeSimulator() = default;
 const Machine& BridgeSimulator::machine() const noexcept { return impl_->machine; }
 
 SimulationResult BridgeSimulator::simulate(const motion::ProbingMove& move, double carriage_y_m) {
+  // The machine's own dwell and smoothing are its controller's setting: only the motion settings
+  // are checked against the capabilities.
+  const Machine& machine = impl_->machine;
+  const motion::ProbingMove cycle = controlled_move(machine.parameters, move);
+  motion::ControllerCapabilities caps = machine.capabilities;
+  caps[motion::Setting::kDwell] = {cycle.dwell, cycle.dwell};
+  caps[motion::Setting::kSmoothing] = {cycle.smoothing, cycle.smoothing};
+  if (motion::first_invalid_parameter(cycle).label == nullptr) {
+    const std::string problem = capability_problem(machine.name, caps, cycle);
+    if (!problem.empty()) throw Error(problem);
+  }
+  return run(cycle, carriage_y_m);
+}
+
+SimulationResult BridgeSimulator::simulate_cycle(const motion::ProbingMove& cycle,
+                                                 double carriage_y_m) {
+  if (motion::first_invalid_parameter(cycle).label == nullptr) {
+    const std::string problem = capability_problem(impl_->machine, cycle);
+    if (!problem.empty()) throw Error(problem);
+  }
+  return run(cycle, carriage_y_m);
+}
+
+SimulationResult BridgeSimulator::run(const motion::ProbingMove& cycle, double carriage_y_m) {
   if (!(carriage_y_m >= 0.0 && carriage_y_m <= kMaxCarriageY)) {
     throw Error(fmt::format(
         "carriage position Y = {} m is outside 0 .. {} m", carriage_y_m, kMaxCarriageY));
   }
   motion::MoveProfile profile;
-  const motion::ProbingMove controlled = controlled_move(impl_->machine.parameters, move);
+  const motion::ProbingMove& controlled = cycle;
   const Status planned = motion::MoveProfile::plan(controlled, profile);
   if (!ok(planned)) {
     const motion::MoveParameterProblem bad = motion::first_invalid_parameter(controlled);
@@ -249,7 +273,7 @@ std::string format_move_report(const Machine& machine,
       "(RPE at the deceleration start, {:.4f} s; MAE from the approach start after the {:.3f} s "
       "dwell, {:.4f} s; RAE at the touch, {:.4f} s)\n",
       r.instants.positioning_decel_start,
-      machine.parameters.controller_dwell_s,
+      r.instants.approach_start - r.instants.positioning_end,
       r.instants.approach_start,
       r.instants.touch);
   if (cvode) {

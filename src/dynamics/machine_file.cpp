@@ -13,6 +13,7 @@
 #include <cmmcomp/io/toml_subset.hpp>
 #include <cstdint>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -298,6 +299,131 @@ std::vector<std::string> implausible_parameters(const MachineParameters& p) {
   return out;
 }
 
+namespace {
+
+using motion::kSettings;
+using motion::SettingInfo;
+
+std::string capability_key(const SettingInfo& info, const char* bound) {
+  return fmt::format("{}_{}_{}", info.key, bound, info.unit);
+}
+
+/// The file's unit as text: "mm/s" for "mm_s".
+std::string unit_text(const SettingInfo& info) {
+  return info.unit == std::string("mm_s")    ? "mm/s"
+         : info.unit == std::string("mm_s2") ? "mm/s^2"
+                                             : info.unit;
+}
+
+/// "500 mm/s" from an SI value, in the file's unit.
+std::string in_file_unit(const SettingInfo& info, double si) {
+  return fmt::format("{:g} {}", si / info.to_si, unit_text(info));
+}
+
+std::string where_set(const SettingInfo& info) {
+  return info.ipp_property != nullptr
+             ? fmt::format("I++ DME {}", info.ipp_property)
+             : std::string("the controller's configuration; I++ DME has no property for it");
+}
+
+}  // namespace
+
+std::string capability_problem(const Machine& machine, const motion::ProbingMove& cycle) {
+  return capability_problem(machine.name, machine.capabilities, cycle);
+}
+
+std::string capability_problem(const std::string& machine_name,
+                               const motion::ControllerCapabilities& caps,
+                               const motion::ProbingMove& cycle) {
+  const motion::SettingViolation v = motion::first_violation(caps, cycle);
+  if (!v.outside) return {};
+  const SettingInfo& info = motion::setting_info(v.setting);
+  return fmt::format(
+      "the controller of machine '{}' cannot run {} = {}: its capabilities allow {:g} .. {} ({}; "
+      "the machine file's [capabilities] {} and {}, docs/machine-file.md, 'Capabilities')",
+      machine_name,
+      info.symbol,
+      std::isfinite(v.value) ? in_file_unit(info, v.value) : fmt::format("{}", v.value),
+      v.range.min / info.to_si,
+      in_file_unit(info, v.range.max),
+      where_set(info),
+      capability_key(info, "min"),
+      capability_key(info, "max"));
+}
+
+std::string capabilities_problem(const Machine& machine) {
+  for (const SettingInfo& info : kSettings) {
+    const motion::SettingRange r = machine.capabilities[info.setting];
+    if (!(info.limits.contains(r.min) && info.limits.contains(r.max) && r.min <= r.max)) {
+      return fmt::format(
+          "capabilities.{} = {:g} and capabilities.{} = {:g} must satisfy "
+          "{:g} <= min <= max <= {:g} ({})",
+          capability_key(info, "min"),
+          r.min / info.to_si,
+          capability_key(info, "max"),
+          r.max / info.to_si,
+          info.limits.min / info.to_si,
+          info.limits.max / info.to_si,
+          info.description);
+    }
+  }
+  const struct {
+    motion::Setting setting;
+    double value;
+    const char* key;
+  } timing[] = {
+      {motion::Setting::kDwell, machine.parameters.controller_dwell_s, "dwell_s"},
+      {motion::Setting::kSmoothing, machine.parameters.controller_smoothing_s, "smoothing_s"}};
+  for (const auto& t : timing) {
+    const SettingInfo& info = motion::setting_info(t.setting);
+    const motion::SettingRange r = machine.capabilities[t.setting];
+    if (!r.contains(t.value)) {
+      return fmt::format(
+          "controller.{} = {:g} (the controller's own setting) is outside its capability "
+          "{:g} .. {:g} (capabilities.{}, capabilities.{})",
+          t.key,
+          t.value,
+          r.min,
+          r.max,
+          capability_key(info, "min"),
+          capability_key(info, "max"));
+    }
+  }
+  return {};
+}
+
+std::string format_machine_keys() {
+  std::string out;
+  for (const Info& info : machine_parameter_table()) {
+    fmt::format_to(std::back_inserter(out),
+                   "| {} | {} | {:g} .. {:g} | {:g} .. {:g} | {} | {} | {} |\n",
+                   info.section,
+                   info.key,
+                   info.min,
+                   info.max,
+                   info.plausible_min,
+                   info.plausible_max,
+                   info.identifiable ? "yes" : "no",
+                   info.description,
+                   info.basis);
+  }
+  for (const SettingInfo& info : kSettings) {
+    for (const char* bound : {"min", "max"}) {
+      fmt::format_to(std::back_inserter(out),
+                     "| capabilities | {} | {:g} .. {:g} | {} | {} {} | {} |\n",
+                     capability_key(info, bound),
+                     info.limits.min / info.to_si,
+                     info.limits.max / info.to_si,
+                     info.symbol,
+                     bound == std::string("min") ? "smallest" : "largest",
+                     info.description,
+                     info.ipp_property != nullptr ? fmt::format("`{}`", info.ipp_property)
+                                                  : std::string("configuration (no I++ property)"));
+    }
+  }
+  return out;
+}
+
 bool is_physical(const MachineParameters& p, std::string* why) {
   for (const Info& info : machine_parameter_table()) {
     const double v = info.get(p);
@@ -315,6 +441,44 @@ bool is_physical(const MachineParameters& p, std::string* why) {
   }
   return true;
 }
+
+namespace {
+
+/// The [capabilities] keys into `caps` (SI), each recorded in `seen` as "capabilities.KEY".
+template <typename Where>
+void parse_capabilities(const toml::table& section,
+                        const Where& where,
+                        motion::ControllerCapabilities& caps,
+                        std::set<std::string>& seen) {
+  for (auto&& [sub, value] : section) {
+    const std::string key(sub.str());
+    const SettingInfo* info = nullptr;
+    bool is_min = false;
+    std::vector<std::string> keys;
+    for (const SettingInfo& candidate : kSettings) {
+      for (const char* bound : {"min", "max"}) {
+        keys.push_back(capability_key(candidate, bound));
+        if (keys.back() == key) {
+          info = &candidate;
+          is_min = bound == std::string("min");
+        }
+      }
+    }
+    if (info == nullptr) {
+      throw ConfigError(where(value) + ": unknown key 'capabilities." + key + "'" +
+                        detail::did_you_mean(key, keys));
+    }
+    const std::optional<double> v = value.template value<double>();
+    if (!v || !(value.is_floating_point() || value.is_integer()) || !std::isfinite(*v)) {
+      throw ConfigError(where(value) + ": key 'capabilities." + key + "' must be a finite number");
+    }
+    motion::SettingRange& r = caps[info->setting];
+    (is_min ? r.min : r.max) = *v * info->to_si;
+    seen.insert("capabilities." + key);
+  }
+}
+
+}  // namespace
 
 Machine parse_machine(const std::string& text, const std::string& source) {
   io::check_toml_subset(text, source, "docs/machine-file.md");
@@ -338,18 +502,21 @@ Machine parse_machine(const std::string& text, const std::string& source) {
     throw ConfigError(fmt::format(
         "{}: format_version 1 is the drag-load machine model; this library reads version {}, "
         "whose model has a structural mode, a hose element and controller settings "
-        "(docs/machine-file.md, 'Format 2'). Write a new start file with "
+        "(docs/machine-file.md, 'Format 2 and format 1'). Write a new start file with "
         "'cmmcomp-sim machine -o start.toml' and identify it against your measurements",
         where(*version),
         kMachineFileVersion));
   }
-  if (!version->is_integer() || version->as_integer()->get() != kMachineFileVersion) {
+  if (!version->is_integer() || version->as_integer()->get() < kOldestMachineFileVersion ||
+      version->as_integer()->get() > kMachineFileVersion) {
     throw ConfigError(
-        fmt::format("{}: format_version must be {} (this library's machine-file "
-                    "format)",
+        fmt::format("{}: format_version must be {} or {} (this library's machine-file "
+                    "formats)",
                     where(*version),
+                    kOldestMachineFileVersion,
                     kMachineFileVersion));
   }
+  const bool has_capabilities = version->as_integer()->get() >= 3;
 
   Machine m;
   std::set<std::string> seen;
@@ -372,6 +539,15 @@ Machine parse_machine(const std::string& text, const std::string& source) {
       continue;
     }
     const toml::table* section = node.as_table();
+    if (section != nullptr && k == "capabilities") {
+      if (!has_capabilities) {
+        throw ConfigError(where(node) +
+                          ": a [capabilities] section needs format_version 3 (format 2 has none; "
+                          "docs/machine-file.md, 'Capabilities')");
+      }
+      parse_capabilities(*section, where, m.capabilities, seen);
+      continue;
+    }
     const bool known_section = std::any_of(machine_parameter_table().begin(),
                                            machine_parameter_table().end(),
                                            [&k](const Info& info) { return k == info.section; });
@@ -382,12 +558,14 @@ Machine parse_machine(const std::string& text, const std::string& source) {
         const auto first = section->begin();
         std::vector<std::string> sections;
         for (const Info& info : machine_parameter_table()) sections.push_back(info.section);
+        sections.emplace_back("capabilities");
         throw ConfigError(where(first->second) + ": unknown key '" + k + "." +
                           std::string(first->first.str()) + "' (no section '" + k + "')" +
                           detail::did_you_mean(k, sections));
       }
       std::vector<std::string> sections;
       for (const Info& info : machine_parameter_table()) sections.push_back(info.section);
+      sections.emplace_back("capabilities");
       throw ConfigError(where(node) + ": unknown section '" + k + "'" +
                         detail::did_you_mean(k, sections));
     }
@@ -427,6 +605,25 @@ Machine parse_machine(const std::string& text, const std::string& source) {
       throw ConfigError(source + ": missing key '" + full + "' (" + info.description + ")");
     }
   }
+  if (has_capabilities) {
+    for (const SettingInfo& info : kSettings) {
+      for (const char* bound : {"min", "max"}) {
+        const std::string full = "capabilities." + capability_key(info, bound);
+        if (seen.count(full) == 0) {
+          throw ConfigError(fmt::format("{}: missing key '{}' (the {} {} the controller accepts)",
+                                        source,
+                                        full,
+                                        bound == std::string("min") ? "smallest" : "largest",
+                                        info.description));
+        }
+      }
+    }
+  } else {
+    m.capabilities = motion::fixed_timing_capabilities(m.parameters.controller_dwell_s,
+                                                       m.parameters.controller_smoothing_s);
+  }
+  const std::string problem = capabilities_problem(m);
+  if (!problem.empty()) throw ConfigError(source + ": " + problem);
   if (m.name.empty()) throw ConfigError(source + ": missing 'name'");
   return m;
 }
@@ -462,6 +659,21 @@ std::string format_machine(const Machine& machine) {
                                      info.plausible_min,
                                      info.plausible_max)
                        : "");
+  }
+  fmt::format_to(std::back_inserter(s),
+                 "\n[capabilities]  # what a program or the controller's configuration may set, "
+                 "and the range the controller accepts\n");
+  for (const SettingInfo& info : kSettings) {
+    const motion::SettingRange r = machine.capabilities[info.setting];
+    fmt::format_to(std::back_inserter(s),
+                   "{} = {:.12g}\n{} = {:.12g}  # {}{} ({})\n",
+                   capability_key(info, "min"),
+                   r.min / info.to_si,
+                   capability_key(info, "max"),
+                   r.max / info.to_si,
+                   info.description,
+                   info.symbol == std::string(info.key) ? "" : std::string(" ") + info.symbol,
+                   where_set(info));
   }
   const ModalSummary m = modal_summary(machine.parameters);
   fmt::format_to(std::back_inserter(s),

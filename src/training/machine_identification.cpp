@@ -14,6 +14,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "ceres_progress.hpp"
 
@@ -398,6 +399,17 @@ IdentificationReport identify_machine(const Machine& start,
   ceres::Solve(solver, &ceres_problem, &summary);
 
   report.fitted = problem.machine_at(x.data());
+  // A fitted controller timing (--fixed none) is what the controller ran, so its capabilities
+  // hold it: a fixed range (a format-2 start) follows the fit, a wider one grows to it.
+  const dynamics::MachineParameters& fp = report.fitted.parameters;
+  for (const auto& [setting, value] :
+       {std::pair{motion::Setting::kDwell, fp.controller_dwell_s},
+        std::pair{motion::Setting::kSmoothing, fp.controller_smoothing_s}}) {
+    motion::SettingRange& range = report.fitted.capabilities[setting];
+    range = range.min == range.max
+                ? motion::SettingRange{value, value}
+                : motion::SettingRange{std::min(range.min, value), std::max(range.max, value)};
+  }
   if (!report.fitted.description.empty()) report.fitted.description += "; ";
   report.fitted.description += fmt::format("identified ({} parameters, cost {:.4g} -> {:.4g})",
                                            n,

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cmmcomp/detail/splitmix64.hpp>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cstdint>
@@ -354,6 +355,70 @@ TEST(BridgeSimulator, ExponentialIntegratorAgreesWithCvodeToAFewNanometres) {
   EXPECT_LT(worst_finer, worst / 2.5) << "second order: " << worst << " then " << worst_finer;
 }
 
+TEST(BridgeSimulator, ExponentialIntegratorSimulatesEveryMoveOfACmmEnvelopeAnyControllerTiming) {
+  // An extremum kept for 0 < s < 1 inside a step once had its time t0 + s·h round onto the step's
+  // start or end, and the extraction refused the two samples at one time ("invalid input"): 4 %
+  // of such moves failed with smoothing_s = 0, which the machine file allows. Two reproducers,
+  // then random moves over a real CMM's envelope and random controller timing, half without
+  // smoothing: every move simulates, and agrees with CVODE.
+  struct Case {
+    motion::ProbingMove move;
+    double y, dwell_s, smoothing_s;
+  };
+  std::vector<Case> cases;
+  motion::ProbingMove slow_long = motion::baseline_move();
+  slow_long.positioning_speed = 0.005;
+  slow_long.positioning_distance = 0.150;
+  cases.push_back({slow_long, kBaselineY, default_machine().parameters.controller_dwell_s, 0.0});
+  cases.push_back({motion::ProbingMove{0.070, 0.200, 0.040, 0.002, 0.300, 0.010, 0.0},
+                   0.5,
+                   0.0,
+                   default_machine().parameters.controller_smoothing_s});
+  detail::SplitMix64 rng{38};
+  for (int i = 0; i < 200; ++i) {
+    Case c{motion::ProbingMove{rng.uniform(0.005, 0.500),
+                               rng.uniform(0.050, 1.200),
+                               rng.uniform(0.005, 0.300),
+                               rng.uniform(0.001, 0.020),
+                               rng.uniform(0.050, 1.200),
+                               rng.uniform(0.0005, 0.015),
+                               0.0},
+           rng.uniform(0.0, 0.5),
+           i % 4 == 0 ? 0.0 : rng.uniform(0.0, 1.2),
+           i % 2 == 0 ? 0.0 : rng.uniform(0.0, 0.15)};
+    cases.push_back(c);
+  }
+  std::size_t failed = 0;
+  double worst = 0.0;
+  BridgeSimulator exponential(default_machine());
+  BridgeSimulator reference(default_machine(), cvode(1e-9, 1e-12));
+  for (const Case& c : cases) {
+    motion::ProbingMove cycle = c.move;
+    cycle.dwell = c.dwell_s;
+    cycle.smoothing = c.smoothing_s;
+    try {
+      const auto e = exponential.simulate_cycle(cycle, c.y).errors_um;
+      const auto r = reference.simulate_cycle(cycle, c.y).errors_um;
+      for (const auto member : {&errors::DynamicErrors::mpe,
+                                &errors::DynamicErrors::rpe,
+                                &errors::DynamicErrors::mae,
+                                &errors::DynamicErrors::rae}) {
+        worst = std::max(worst, std::abs(e.*member - r.*member));
+      }
+    } catch (const Error& e) {
+      ++failed;
+      ADD_FAILURE() << "PV " << c.move.positioning_speed << " PD " << c.move.positioning_distance
+                    << " dwell " << c.dwell_s << " smoothing " << c.smoothing_s << ": " << e.what();
+    }
+  }
+  std::printf("%zu moves, %zu failed, largest |exponential - CVODE| %.3g um\n",
+              cases.size(),
+              failed,
+              worst);
+  EXPECT_EQ(failed, 0u);
+  EXPECT_LT(worst, 0.01) << "µm";
+}
+
 TEST(BridgeSimulator, TracesOfBothIntegratorsAgree) {
   // The exponential integrator's trace (Hermite-interpolated between exact steps) against CVODE's,
   // on the same 1 kHz grid: within a few nanometres everywhere, not only at the four parameters.
@@ -455,6 +520,59 @@ TEST(BridgeSimulator, KeepsItsMachine) {
   m.name = "bench";
   BridgeSimulator sim(m);
   EXPECT_EQ(sim.machine().name, "bench");
+}
+
+TEST(BridgeSimulator, TheControllerRefusesASettingOutsideItsCapabilities) {
+  // The default machine's controller takes PV up to 500 mm/s (Tool.GoToPar.Speed) and a dwell up
+  // to 2 s (no I++ property): beyond either, the twin refuses, naming the setting and its range.
+  BridgeSimulator sim(default_machine());
+  motion::ProbingMove fast = motion::baseline_move();
+  fast.positioning_speed = 0.600;
+  fast.positioning_distance = 0.300;
+  try {
+    sim.simulate(fast, kBaselineY);
+    FAIL() << "PV 600 mm/s was simulated";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_TRUE(contains(msg, "PV = 600 mm/s")) << msg;
+    EXPECT_TRUE(contains(msg, "1 .. 500 mm/s")) << msg;
+    EXPECT_TRUE(contains(msg, "Tool.GoToPar.Speed")) << msg;
+    EXPECT_TRUE(contains(msg, "positioning_speed_max_mm_s")) << msg;
+  }
+  motion::ProbingMove long_dwell =
+      controlled_move(sim.machine().parameters, motion::baseline_move());
+  long_dwell.dwell = 2.5;
+  try {
+    sim.simulate_cycle(long_dwell, kBaselineY);
+    FAIL() << "a 2.5 s dwell was simulated";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_TRUE(contains(msg, "dwell = 2.5 s")) << msg;
+    EXPECT_TRUE(contains(msg, "no property")) << msg;
+  }
+  motion::ProbingMove nan_smoothing = long_dwell;
+  nan_smoothing.dwell = 0.5;
+  nan_smoothing.smoothing = kNaN;
+  EXPECT_THROW(sim.simulate_cycle(nan_smoothing, kBaselineY), Error);
+}
+
+TEST(BridgeSimulator, ACycleAtTheMachinesOwnTimingIsTheMove) {
+  // simulate() is simulate_cycle() at the [controller] dwell and smoothing, bit for bit; another
+  // dwell inside the capabilities changes the approach's start by exactly the difference.
+  BridgeSimulator sim(default_machine());
+  const motion::ProbingMove cycle =
+      controlled_move(sim.machine().parameters, motion::baseline_move());
+  const SimulationResult a = sim.simulate(motion::baseline_move(), kBaselineY);
+  const SimulationResult b = sim.simulate_cycle(cycle, kBaselineY);
+  EXPECT_EQ(a.errors_um.mpe, b.errors_um.mpe);
+  EXPECT_EQ(a.errors_um.rpe, b.errors_um.rpe);
+  EXPECT_EQ(a.errors_um.mae, b.errors_um.mae);
+  EXPECT_EQ(a.errors_um.rae, b.errors_um.rae);
+  motion::ProbingMove shorter = cycle;
+  shorter.dwell = 0.3;
+  const SimulationResult c = sim.simulate_cycle(shorter, kBaselineY);
+  EXPECT_NEAR(c.instants.approach_start - c.instants.positioning_end, 0.3, 1e-12);
+  EXPECT_NEAR(a.instants.approach_start - c.instants.approach_start, cycle.dwell - 0.3, 1e-9);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -68,10 +69,19 @@ std::string number(double v) {
   return buf;
 }
 
-/// The default machine file with `info`'s value replaced by `value_text`; `line` gets its
-/// 1-based line number.
+/// The default machine with capabilities as wide as a file may hold, so that any physical
+/// controller timing is inside them.
+Machine widest_capabilities() {
+  Machine m = default_machine();
+  for (const motion::SettingInfo& info : motion::kSettings)
+    m.capabilities[info.setting] = info.limits;
+  return m;
+}
+
+/// The default machine file (widest capabilities) with `info`'s value replaced by `value_text`;
+/// `line` gets its 1-based line number.
 std::string with_value(const Info& info, const std::string& value_text, int* line) {
-  std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+  std::vector<std::string> lines = split_lines(format_machine(widest_capabilities()));
   const int i = key_line(lines, info);
   EXPECT_GE(i, 0) << full_key(info);
   if (i < 0) return "";
@@ -347,7 +357,7 @@ TEST(MachineFile, WrongFormatVersionNamesItsLine) {
   std::vector<std::string> lines = split_lines(format_machine(default_machine()));
   const int i = find_line(lines, "format_version");
   ASSERT_GE(i, 0);
-  for (const char* bad : {"3", "0", "\"2\"", "2.0"}) {
+  for (const char* bad : {"4", "1.5", "0", "\"3\"", "3.0"}) {
     lines[static_cast<std::size_t>(i)] = std::string("format_version = ") + bad;
     const std::string msg = error_of(join_lines(lines));
     EXPECT_TRUE(contains(msg, at_line(i + 1))) << bad << ": " << msg;
@@ -532,13 +542,146 @@ TEST(MachineFile, UnknownEmptySectionIsRejected) {
 
 // Fitted machines carry full-precision values: they must survive format -> parse exactly.
 TEST(MachineFile, RoundTripKeepsFullPrecision) {
-  Machine m = default_machine();
+  Machine m = widest_capabilities();
   for (const Info& info : machine_parameter_table()) {
     info.set(m.parameters, info.min + (info.max - info.min) / 3.0);
   }
   const Machine back = parse_machine(format_machine(m), kSource);
   for (const Info& info : machine_parameter_table()) {
     EXPECT_EQ(info.get(back.parameters), info.get(m.parameters)) << full_key(info);
+  }
+}
+
+/// The default machine's file text as format 2: its version line, no [capabilities] section.
+std::string as_format_two(const std::string& text) {
+  std::vector<std::string> lines = split_lines(text);
+  std::vector<std::string> out;
+  bool in_capabilities = false;
+  for (const std::string& line : lines) {
+    if (starts_with(line, "[")) in_capabilities = starts_with(line, "[capabilities]");
+    if (in_capabilities) continue;
+    out.push_back(starts_with(line, "format_version") ? "format_version = 2" : line);
+  }
+  return join_lines(out);
+}
+
+TEST(MachineFile, EverySettingHasAUniqueKeyAnUnitAndItsIppPropertyOrNone) {
+  std::set<std::string> keys;
+  for (int i = 0; i < motion::kSettingCount; ++i) {
+    const motion::SettingInfo& info = motion::kSettings[i];
+    EXPECT_EQ(static_cast<int>(info.setting), i) << info.key;
+    EXPECT_TRUE(keys.insert(info.key).second) << info.key;
+    EXPECT_LT(info.limits.min, info.limits.max) << info.key;
+    if (info.ipp_property != nullptr) {
+      EXPECT_TRUE(starts_with(info.ipp_property, "Tool.GoToPar.") ||
+                  starts_with(info.ipp_property, "Tool.PtMeasPar."))
+          << info.ipp_property;
+    }
+  }
+  // The settings I++ DME has no property for: the controller's configuration.
+  EXPECT_EQ(motion::setting_info(motion::Setting::kDwell).ipp_property, nullptr);
+  EXPECT_EQ(motion::setting_info(motion::Setting::kSmoothing).ipp_property, nullptr);
+}
+
+TEST(MachineFile, CapabilitiesRoundTripInTheFilesUnits) {
+  Machine m = default_machine();
+  m.capabilities[motion::Setting::kPositioningSpeed] = {0.0021, 0.4333};
+  m.capabilities[motion::Setting::kApproachDistance] = {0.0003, 0.0127};
+  m.capabilities[motion::Setting::kSmoothing] = {0.0, 0.15};
+  const Machine back = parse_machine(format_machine(m), kSource);
+  // Kept in the file's units (mm, s) to 12 digits: the text is stable from the first writing.
+  for (const motion::SettingInfo& info : motion::kSettings) {
+    EXPECT_DOUBLE_EQ(back.capabilities[info.setting].min, m.capabilities[info.setting].min)
+        << info.key;
+    EXPECT_DOUBLE_EQ(back.capabilities[info.setting].max, m.capabilities[info.setting].max)
+        << info.key;
+  }
+  EXPECT_EQ(format_machine(back), format_machine(m));
+  const Machine again = parse_machine(format_machine(back), kSource);
+  EXPECT_EQ(format_machine(again), format_machine(back));
+}
+
+TEST(MachineFile, AFormatTwoFileHasTheFixedTimingCapabilities) {
+  const Machine d = default_machine();
+  const Machine m = parse_machine(as_format_two(format_machine(d)), kSource);
+  EXPECT_EQ(m.parameters.controller_dwell_s, d.parameters.controller_dwell_s);
+  const motion::SettingRange dwell = m.capabilities[motion::Setting::kDwell];
+  EXPECT_EQ(dwell.min, d.parameters.controller_dwell_s);
+  EXPECT_EQ(dwell.max, d.parameters.controller_dwell_s);
+  const motion::SettingRange pv = m.capabilities[motion::Setting::kPositioningSpeed];
+  EXPECT_EQ(pv.min, motion::MoveLimits::kMinSpeed);
+  EXPECT_EQ(pv.max, motion::MoveLimits::kMaxSpeed);
+  // Written back, it is format 3 with those capabilities.
+  EXPECT_TRUE(contains(format_machine(m), "format_version = 3")) << format_machine(m);
+}
+
+TEST(MachineFile, ACapabilitiesSectionInAFormatTwoFileIsRefused) {
+  std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+  const int v = find_line(lines, "format_version");
+  ASSERT_GE(v, 0);
+  lines[static_cast<std::size_t>(v)] = "format_version = 2";
+  const int i = find_line(lines, "[capabilities]");
+  const std::string msg = error_of(join_lines(lines));
+  EXPECT_TRUE(contains(msg, at_line(i + 1))) << msg;
+  EXPECT_TRUE(contains(msg, "needs format_version 3")) << msg;
+}
+
+TEST(MachineFile, EveryMissingCapabilityKeyIsNamed) {
+  for (const motion::SettingInfo& info : motion::kSettings) {
+    for (const char* bound : {"min", "max"}) {
+      const std::string key = std::string(info.key) + "_" + bound + "_" + info.unit;
+      std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+      const int i = find_line(lines, key + " =");
+      ASSERT_GE(i, 0) << key;
+      lines.erase(lines.begin() + i);
+      const std::string msg = error_of(join_lines(lines));
+      EXPECT_TRUE(contains(msg, "missing key 'capabilities." + key + "'")) << msg;
+    }
+  }
+}
+
+TEST(MachineFile, ACapabilityRangeOutOfOrderOrWithoutTheControllerTimingIsRefused) {
+  const auto with = [](const std::string& key, const std::string& value) {
+    std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+    const int i = find_line(lines, key + " =");
+    EXPECT_GE(i, 0) << key;
+    lines[static_cast<std::size_t>(i)] = key + " = " + value;
+    return error_of(join_lines(lines));
+  };
+  std::string msg = with("approach_speed_min_mm_s", "30");  // above its max, 20
+  EXPECT_TRUE(contains(msg, "approach_speed_min_mm_s = 30")) << msg;
+  EXPECT_TRUE(contains(msg, "min <= max")) << msg;
+  msg = with("positioning_accel_max_mm_s2", "2e6");  // beyond MoveLimits
+  EXPECT_TRUE(contains(msg, "positioning_accel_max_mm_s2")) << msg;
+  msg = with("dwell_max_s", "0.5");  // the default machine's own dwell is 1.128 s
+  EXPECT_TRUE(contains(msg, "controller.dwell_s")) << msg;
+  EXPECT_TRUE(contains(msg, "dwell_max_s")) << msg;
+  msg = with("smoothing_max_s", "nan");
+  EXPECT_TRUE(contains(msg, "smoothing_max_s' must be a finite number")) << msg;
+  msg = with("dwell_max_s", "\"2\"");
+  EXPECT_TRUE(contains(msg, "must be a finite number")) << msg;
+}
+
+TEST(MachineFile, AMisspeltCapabilityKeyGetsTheClosestName) {
+  std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+  const int i = find_line(lines, "dwell_max_s =");
+  ASSERT_GE(i, 0);
+  lines[static_cast<std::size_t>(i)] = "dwel_max_s = 2";
+  const std::string msg = error_of(join_lines(lines));
+  EXPECT_TRUE(contains(msg, at_line(i + 1))) << msg;
+  EXPECT_TRUE(contains(msg, "unknown key 'capabilities.dwel_max_s'")) << msg;
+  EXPECT_TRUE(contains(msg, "dwell_max_s")) << msg;
+}
+
+TEST(MachineFile, TheKeyRowsListEveryParameterAndCapabilityKey) {
+  const std::string rows = format_machine_keys();
+  for (const Info& info : machine_parameter_table()) {
+    EXPECT_TRUE(contains(rows, "| " + std::string(info.section) + " | " + info.key + " | "))
+        << info.key;
+  }
+  for (const motion::SettingInfo& info : motion::kSettings) {
+    EXPECT_TRUE(contains(rows, std::string("| capabilities | ") + info.key + "_min_" + info.unit))
+        << info.key;
   }
 }
 

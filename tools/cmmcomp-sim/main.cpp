@@ -29,6 +29,7 @@
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -125,6 +126,8 @@ struct MoveCommand {
   bool noise = false, json = false;
   std::uint64_t seed = 1;
   bool cvode = false;
+  /// The cycle's controller timing [s]; unset: the machine's [controller] setting.
+  std::optional<double> dwell_s, smoothing_s;
 };
 
 int run_move(const MoveCommand& cmd) {
@@ -133,7 +136,11 @@ int run_move(const MoveCommand& cmd) {
   options.record_trace = !cmd.trace_path.empty();
   if (cmd.cvode) options.integration = Integration::kCvode;
   BridgeSimulator sim(machine_from(cmd.machine_path), options);
-  const SimulationResult r = sim.simulate(cmd.move.to_move(), cmd.y_mm * kMm);
+  cmmcomp::motion::ProbingMove cycle =
+      controlled_move(sim.machine().parameters, cmd.move.to_move());
+  if (cmd.dwell_s) cycle.dwell = *cmd.dwell_s;
+  if (cmd.smoothing_s) cycle.smoothing = *cmd.smoothing_s;
+  const SimulationResult r = sim.simulate_cycle(cycle, cmd.y_mm * kMm);
   MeasurementNoise noise;
   noise.enabled = cmd.noise;
   noise.seed = cmd.seed;
@@ -337,6 +344,13 @@ static int run_tool(int argc, char** argv) {
   move->add_option("--seed", move_cmd.seed, "noise seed")->capture_default_str();
   move->add_option("--trace", move_cmd.trace_path, "write the simulated trace to this CSV");
   move->add_flag("--json", move_cmd.json, "print one JSON object");
+  move->add_option("--dwell",
+                   move_cmd.dwell_s,
+                   "settling dwell before the approach [s] (default: the machine's; within its "
+                   "[capabilities])");
+  move->add_option("--smoothing",
+                   move_cmd.smoothing_s,
+                   "command smoothing [s] (default: the machine's; within its [capabilities])");
   move->add_flag("--cvode",
                  move_cmd.cvode,
                  "integrate with SUNDIALS CVODE (the reference) instead of the exponential "
@@ -490,18 +504,7 @@ static int run_tool(int argc, char** argv) {
       return run_identify(id);
     }
     if (machine_cmd->parsed() && machine_keys) {
-      for (const auto& info : cmmcomp::dynamics::machine_parameter_table()) {
-        std::printf("| %s | %s | %g .. %g | %g .. %g | %s | %s | %s |\n",
-                    info.section,
-                    info.key,
-                    info.min,
-                    info.max,
-                    info.plausible_min,
-                    info.plausible_max,
-                    info.identifiable ? "yes" : "no",
-                    info.description,
-                    info.basis);
-      }
+      std::fputs(cmmcomp::dynamics::format_machine_keys().c_str(), stdout);
       return 0;
     }
     if (machine_cmd->parsed()) {

@@ -93,13 +93,19 @@ class BridgeSimulator {
   /// Simulates `move` with the carriage at `carriage_y_m` [m] (0 = drive side, up to 2 m). The
   /// machine's controller runs it: its dwell and smoothing replace the move's
   /// (controlled_move()), and `instants` are those of the controlled profile.
-  /// Throws Error for an invalid move or Y (message says which), or when CVODE fails (message
-  /// carries CVODE's flag and the time reached).
+  /// Throws Error for an invalid move or Y (message says which), for a setting outside the
+  /// machine's capabilities (capability_problem()), or when CVODE fails (message carries CVODE's
+  /// flag and the time reached).
   SimulationResult simulate(const motion::ProbingMove& move, double carriage_y_m);
+  /// The same for a whole probing cycle whose controller settings are chosen: the cycle's own
+  /// dwell and smoothing, which the machine's capabilities must allow, replace the machine's.
+  SimulationResult simulate_cycle(const motion::ProbingMove& cycle, double carriage_y_m);
 
   const Machine& machine() const noexcept;
 
  private:
+  /// Plans and integrates `cycle` as given (no capability check).
+  SimulationResult run(const motion::ProbingMove& cycle, double carriage_y_m);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

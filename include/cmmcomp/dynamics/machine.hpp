@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cmmcomp/dynamics/parameter_table.hpp>
+#include <cmmcomp/motion/controller_capabilities.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
 #include <string>
 #include <vector>
@@ -76,18 +77,39 @@ inline motion::ProbingMove controlled_move(const MachineParameters& p, motion::P
   return move;
 }
 
-/// A named machine: its parameters and where they came from.
+/// A named machine: its parameters, what its controller lets a program set, and where they came
+/// from.
 struct Machine {
   std::string name;         ///< short identifier
   std::string description;  ///< free text (how it was obtained)
   MachineParameters parameters;
+  /// The range of every setting of a probing cycle the controller accepts (the [capabilities]
+  /// section; a format-2 file: any move within MoveLimits at the [controller] timing). The
+  /// [controller] dwell and smoothing, the controller's own setting, lie inside them.
+  motion::ControllerCapabilities capabilities = motion::fixed_timing_capabilities(
+      MachineParameters{}.controller_dwell_s, MachineParameters{}.controller_smoothing_s);
 };
+
+/// Empty when `cycle` (a move with its dwell and smoothing) is one the machine's controller can
+/// run; otherwise one sentence naming the first setting outside its capabilities, its value and
+/// range in the file's units, and where the range is set.
+std::string capability_problem(const Machine& machine, const motion::ProbingMove& cycle);
+/// The same against `caps` for the machine named `machine_name`.
+std::string capability_problem(const std::string& machine_name,
+                               const motion::ControllerCapabilities& caps,
+                               const motion::ProbingMove& cycle);
+
+/// Empty when every capability range is ordered (min <= max) inside its setting's limits and
+/// holds the [controller] dwell and smoothing; otherwise the first problem, naming the keys.
+std::string capabilities_problem(const Machine& machine);
 
 /// The table every machine-file operation iterates: section, key, unit, bounds.
 const std::vector<ParameterInfo<MachineParameters>>& machine_parameter_table();
 
-/// Version of the machine-file format this library reads and writes.
-inline constexpr int kMachineFileVersion = 2;
+/// Version of the machine-file format this library writes. It reads this one and format 2 (no
+/// [capabilities] section: fixed_timing_capabilities of its [controller] timing).
+inline constexpr int kMachineFileVersion = 3;
+inline constexpr int kOldestMachineFileVersion = 2;
 
 /// The default machine, compiled in from data/machines/default.toml: identified against the
 /// paper's Tables 1, 2 and 4 (docs/machine-model.md).
@@ -96,12 +118,19 @@ Machine default_machine();
 /// Parses machine-file text; `source` names it in messages. Throws ConfigError
 /// "source:line: key 'section.key': what is wrong" for a syntax error, a wrong or missing
 /// format_version (a format-1 file gets a message naming the change and the command that writes
-/// a new start file), an unknown key, a missing key, a non-numeric or non-physical value.
+/// a new start file), an unknown key, a missing key, a non-numeric or non-physical value, a
+/// capability range out of order or not holding the [controller] timing.
 Machine parse_machine(const std::string& text, const std::string& source);
 /// Reads and parses a file (ConfigError when it cannot be opened).
 Machine load_machine(const std::string& path);
 /// Writes the machine as TOML with every key documented in a comment.
 std::string format_machine(const Machine& machine);
+
+/// The rows of docs/machine-file.md's key tables, as `cmmcomp-sim machine --keys` prints them:
+/// one markdown row per parameter (section, key, range, plausible range, fitted, meaning, basis),
+/// then one per capability key (capabilities, key, range it may span, setting, meaning, where it
+/// is set).
+std::string format_machine_keys();
 
 /// Checks every parameter against the table's bounds; false with the reason in `why`.
 bool is_physical(const MachineParameters& p, std::string* why);
