@@ -7,6 +7,7 @@
 #include <cmmcomp/doe/levels.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
+#include <cmmcomp/io/ipp_number.hpp>
 #include <cmmcomp/measure/plan.hpp>
 #include <cstdlib>
 #include <map>
@@ -245,23 +246,28 @@ std::string format_ipp_program(const std::vector<PlannedMove>& moves, const Plan
       throw ConfigError("the I++ program needs more than 99999 tags: split the plan");
     s += fmt::format("{:05d} {}\n", tag, command);
   };
-  auto point = [](const Vec3& p) { return fmt::format("X({}), Y({}), Z({})", p.x, p.y, p.z); };
+  // Every number at most 16 characters (io/ipp_number.hpp).
+  const auto n = [](double v) { return io::format_ipp_number(v); };
+  auto point = [&n](const Vec3& p) {
+    return fmt::format("X({}), Y({}), Z({})", n(p.x), n(p.y), n(p.z));
+  };
   line("StartSession()");
-  line(fmt::format(
-      "SetProp(Tool.PtMeasPar.Search({}), Tool.PtMeasPar.Retract({}))", o.search_mm, o.retract_mm));
+  line(fmt::format("SetProp(Tool.PtMeasPar.Search({}), Tool.PtMeasPar.Retract({}))",
+                   n(o.search_mm),
+                   n(o.retract_mm)));
   for (const PlannedMove& m : moves) {
     const DatasetRow& r = m.settings;
     line(fmt::format(
-        "SetProp(Tool.GoToPar.Speed({}), Tool.GoToPar.Accel({}))", r.pv_mm_s, r.pa_mm_s2));
+        "SetProp(Tool.GoToPar.Speed({}), Tool.GoToPar.Accel({}))", n(r.pv_mm_s), n(r.pa_mm_s2)));
     line("GoTo(" + point(m.start) + ")");
     line("GoTo(" + point(m.prehit) + ")");
     line(fmt::format(
         "SetProp(Tool.PtMeasPar.Speed({}), Tool.PtMeasPar.Accel({}), Tool.PtMeasPar.Approach({}))",
-        r.av_mm_s,
-        r.aa_mm_s2,
-        r.ad_mm));
+        n(r.av_mm_s),
+        n(r.aa_mm_s2),
+        n(r.ad_mm)));
     line("PtMeas(" + point(m.touch) +
-         fmt::format(", IJK({}, {}, {}))", m.normal.x, m.normal.y, m.normal.z));
+         fmt::format(", IJK({}, {}, {}))", n(m.normal.x), n(m.normal.y), n(m.normal.z)));
   }
   line("EndSession()");
   return s;

@@ -3,8 +3,11 @@
 /// I++ program read back value by value (docs/measurement.md).
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <cmmcomp/detail/splitmix64.hpp>
 #include <cmmcomp/doe/levels.hpp>
 #include <cmmcomp/exceptions.hpp>
+#include <cmmcomp/io/ipp_number.hpp>
 #include <cmmcomp/measure/extract.hpp>
 #include <cmmcomp/measure/plan.hpp>
 #include <fstream>
@@ -142,24 +145,26 @@ TEST(MeasurePlan, TheIppProgramReadsBackToEveryPlannedValue) {
   for (std::size_t i = 0; i < moves.size(); ++i) {
     const PlannedMove& m = moves[i];
     const IppPoint& p = points[i];
-    EXPECT_EQ(p.goto_speed, m.settings.pv_mm_s);
-    EXPECT_EQ(p.goto_accel, m.settings.pa_mm_s2);
-    EXPECT_EQ(p.meas_speed, m.settings.av_mm_s);
-    EXPECT_EQ(p.meas_accel, m.settings.aa_mm_s2);
-    EXPECT_EQ(p.approach, m.settings.ad_mm) << "I++ Approach: from the point along IJK = AD";
+    // Every number at the I++ resolution (1e-6, io/ipp_number.hpp): within half of it.
+    constexpr double kHalf = 0.5e-6 * (1 + 1e-9);
+    EXPECT_NEAR(p.goto_speed, m.settings.pv_mm_s, kHalf);
+    EXPECT_NEAR(p.goto_accel, m.settings.pa_mm_s2, kHalf);
+    EXPECT_NEAR(p.meas_speed, m.settings.av_mm_s, kHalf);
+    EXPECT_NEAR(p.meas_accel, m.settings.aa_mm_s2, kHalf);
+    EXPECT_NEAR(p.approach, m.settings.ad_mm, kHalf) << "I++ Approach: from the point along IJK";
     EXPECT_EQ(p.search, o.search_mm);
     EXPECT_EQ(p.retract, o.retract_mm);
     ASSERT_EQ(p.gotos.size(), 2u);
-    EXPECT_EQ(p.gotos[0].x, m.start.x);
-    EXPECT_EQ(p.gotos[1].x, m.prehit.x);
-    EXPECT_EQ(p.gotos[1].y, m.prehit.y);
-    EXPECT_EQ(p.gotos[1].z, m.prehit.z);
-    EXPECT_EQ(p.point.x, m.touch.x);
-    EXPECT_EQ(p.point.y, m.touch.y);
-    EXPECT_EQ(p.point.z, m.touch.z);
+    EXPECT_NEAR(p.gotos[0].x, m.start.x, kHalf);
+    EXPECT_NEAR(p.gotos[1].x, m.prehit.x, kHalf);
+    EXPECT_NEAR(p.gotos[1].y, m.prehit.y, kHalf);
+    EXPECT_NEAR(p.gotos[1].z, m.prehit.z, kHalf);
+    EXPECT_NEAR(p.point.x, m.touch.x, kHalf);
+    EXPECT_NEAR(p.point.y, m.touch.y, kHalf);
+    EXPECT_NEAR(p.point.z, m.touch.z, kHalf);
     EXPECT_EQ(p.ijk.x, 1.0);
     // The pre-hit point is where I++ starts the approach: nominal + Approach · IJK.
-    EXPECT_DOUBLE_EQ(p.point.x + p.approach * p.ijk.x, p.gotos[1].x);
+    EXPECT_NEAR(p.point.x + p.approach * p.ijk.x, p.gotos[1].x, 3 * kHalf);
   }
 }
 
@@ -217,4 +222,73 @@ TEST(MeasureDocs, EveryPlanAndReportColumnIsDocumented) {
 }
 
 }  // namespace
+
+TEST(MeasurePlan, EveryIppNumberHasAtMost16CharactersWhateverTheNominalAndNormal) {
+  // Fractional nominals and levels make sums like 5.700000000000003 (17 characters), which I++
+  // DME parsers refuse: every number of plan.ipp is at most 16 characters, over random nominal
+  // points, normals along every axis and fractional levels, and reads back within 0.5e-6.
+  detail::SplitMix64 rng{39};
+  std::size_t numbers = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    PlanOptions o = l18x3();
+    o.repeats = 1;
+    o.nominal = {rng.uniform(-2000.0, 2000.0), rng.uniform(0.0, 500.0), rng.uniform(-800.0, 800.0)};
+    const int axis = static_cast<int>(rng.below(3));
+    const double sign = rng.uniform() < 0.5 ? -1.0 : 1.0;
+    o.normal = {axis == 0 ? sign : 0.0, axis == 1 ? sign : 0.0, axis == 2 ? sign : 0.0};
+    o.levels = "pv=40.1,70.3,100.7;pd=40.3,60.1,80.9;av=8.1,12.3,16.7;ad=5.1,10.3,14.9";
+    o.fixed.y_mm = o.nominal.y;
+    o.search_mm = rng.uniform(0.5, 5.0);
+    o.retract_mm = rng.uniform(0.5, 5.0);
+    std::vector<PlannedMove> moves;
+    try {
+      moves = plan_experiment(o);
+    } catch (const ConfigError& e) {
+      ADD_FAILURE() << e.what();
+      continue;
+    }
+    const std::string program = format_ipp_program(moves, o);
+    // Every token between '(' or ',' and ',' or ')' that starts like a number.
+    std::size_t i = 0;
+    while ((i = program.find_first_of("(,", i)) != std::string::npos) {
+      std::size_t b = program.find_first_not_of(' ', i + 1);
+      const std::size_t e = program.find_first_of(",)", b);
+      if (b == std::string::npos || e == std::string::npos) break;
+      const std::string token = program.substr(b, e - b);
+      if (!token.empty() &&
+          (std::isdigit(static_cast<unsigned char>(token[0])) != 0 || token[0] == '-')) {
+        ++numbers;
+        EXPECT_LE(token.size(), 16u) << token;
+        EXPECT_EQ(token.find_first_of("eE"), std::string::npos) << token;
+        if (token.find('.') != std::string::npos) {
+          EXPECT_NE(token.back(), '0') << token;
+        }
+      }
+      i = b;
+    }
+    const std::vector<IppPoint> points = parse_ipp_program(program, "plan.ipp");
+    ASSERT_EQ(points.size(), moves.size());
+    for (std::size_t k = 0; k < moves.size(); ++k) {
+      EXPECT_NEAR(points[k].point.x, moves[k].touch.x, 0.5e-6 * (1 + 1e-9));
+      EXPECT_NEAR(points[k].point.y, moves[k].touch.y, 0.5e-6 * (1 + 1e-9));
+      EXPECT_NEAR(points[k].point.z, moves[k].touch.z, 0.5e-6 * (1 + 1e-9));
+    }
+  }
+  EXPECT_GT(numbers, 60u * 18u * 10u);
+}
+
+TEST(MeasurePlan, AnIppNumberIsFixedPointAtMost16Characters) {
+  EXPECT_EQ(io::format_ipp_number(5.700000000000003), "5.7");
+  EXPECT_EQ(io::format_ipp_number(-0.0000001), "0");
+  EXPECT_EQ(io::format_ipp_number(-12.5000004), "-12.5");
+  EXPECT_EQ(io::format_ipp_number(100.0), "100");
+  EXPECT_EQ(io::format_ipp_number(1e-6), "0.000001");
+  EXPECT_EQ(io::format_ipp_number(123456789.1234567), "123456789.123457");
+  EXPECT_EQ(io::format_ipp_number(-123456789.1234567), "-123456789.12346");
+  EXPECT_EQ(io::format_ipp_number(1234567890123456.0), "1234567890123456");
+  EXPECT_THROW(io::format_ipp_number(1e17), ConfigError);
+  EXPECT_THROW(io::format_ipp_number(std::nan("")), ConfigError);
+  EXPECT_THROW(io::format_ipp_number(-HUGE_VAL), ConfigError);
+}
+
 }  // namespace cmmcomp::measure
