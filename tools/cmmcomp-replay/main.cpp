@@ -1,146 +1,13 @@
 // SPDX-License-Identifier: MIT
 /// @file cmmcomp-replay: replays a recorded controller session (docs/recordings.md) through the
-/// plugins' own request handlers with a given model — or against a live cmmcomp-agent — and
-/// checks every answer byte for byte against the recording.
+/// plugins' own request handlers with a given model — or against a live cmmcomp-agent — and checks
+/// every answer byte for byte against the recording. The options are in options.cpp, the replay
+/// they run in run.cpp.
 #include <CLI/CLI.hpp>
-#include <cmmcomp/compensation/move_compensator.hpp>
-#include <cmmcomp/exceptions.hpp>
-#include <cmmcomp/plugins/can_server.hpp>
-#include <cstdio>
-#include <exception>
-#include <iostream>
-#include <string>
-#include <vector>
 
+#include "../common/command.hpp"
 #include "../common/usage.hpp"
-#include "can_session.hpp"
-#include "domain_policy_option.hpp"
-#include "modbus_session.hpp"
-#include "model_slots.hpp"
-#include "recording.hpp"
-#include "replay.hpp"
-
-namespace {
-
-namespace replay = cmmcomp::replay;
-
-struct Options {
-  std::string session;
-  std::vector<std::string> models;
-  bool json = false;
-  bool quiet = false;
-  std::size_t max_mismatches = 1;
-  std::string live;
-  std::string outside_domain = "clamp";
-  int modbus_unit = 1;
-  std::string can_base_id =
-      cmmcomp::plugins::format_can_base_id(cmmcomp::plugins::can::kDefaultBaseId);
-  int can_part_timeout_ms = 50;
-};
-
-/// Loads the models as cmmcomp-agent does; false (with the reasons on stderr) when one fails.
-bool load_models(const Options& opt, cmmcomp::compensation::MoveCompensator& compensator) {
-  std::vector<cmmcomp::serving::ModelSlot> slots;
-  for (const std::string& m : opt.models)
-    slots.push_back(cmmcomp::serving::parse_model_argument(m));
-  if (slots.empty()) slots.push_back(cmmcomp::serving::ModelSlot{0, ""});
-  bool all = true;
-  for (const cmmcomp::serving::SlotOutcome& o : cmmcomp::serving::load_slots(slots, compensator)) {
-    if (!o.loaded) {
-      std::fprintf(stderr,
-                   "cmmcomp-replay: axis %d: cannot load %s: %s\n",
-                   o.axis,
-                   o.source.c_str(),
-                   o.error.c_str());
-      all = false;
-    } else if (!opt.json) {
-      std::printf("axis %d: model %s (%d inputs) from %s\n",
-                  o.axis,
-                  o.model_id.c_str(),
-                  o.inputs,
-                  o.source.c_str());
-    }
-  }
-  return all;
-}
-
-int run(const Options& opt) {
-  replay::Recording recording;
-  try {
-    recording = replay::load_recording(opt.session);
-  } catch (const replay::RecordingError& e) {
-    std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
-    return 2;
-  }
-  const std::uint32_t base_id = cmmcomp::plugins::parse_can_base_id(opt.can_base_id);
-  const bool modbus = recording.format == replay::RecordingFormat::kModbusTranscript;
-
-  cmmcomp::compensation::CompensatorOptions copt;
-  // CLI11 admits only the three names, so the parse cannot fail here.
-  (void)cmmcomp::fuzzy::parse_domain_policy(opt.outside_domain, &copt.outside_domain);
-  cmmcomp::compensation::MoveCompensator compensator(copt);
-  std::unique_ptr<replay::Session> session;
-  if (opt.live.empty()) {
-    if (!load_models(opt, compensator)) return 2;
-    session =
-        modbus
-            ? replay::make_modbus_session(compensator, static_cast<std::uint8_t>(opt.modbus_unit))
-            : replay::make_can_session(
-                  compensator, base_id, std::chrono::milliseconds(opt.can_part_timeout_ms));
-  } else if (!opt.models.empty()) {
-    std::fprintf(stderr,
-                 "cmmcomp-replay: --model and --live exclude each other: a live agent answers "
-                 "with the model it serves\n");
-    return 2;
-  } else if (opt.live.rfind("modbus:", 0) == 0 && modbus) {
-    session = replay::make_modbus_live_session(opt.live.substr(7));
-  } else if (opt.live.rfind("can:", 0) == 0 && !modbus) {
-    session = replay::make_can_live_session(opt.live.substr(4), base_id);
-  } else {
-    std::fprintf(stderr,
-                 "cmmcomp-replay: --live '%s' does not fit a %s (Modbus transcript: "
-                 "modbus:tcp:HOST:PORT; candump log: can:IFACE)\n",
-                 opt.live.c_str(),
-                 replay::to_string(recording.format));
-    return 2;
-  }
-
-  replay::ReplayOptions ropt;
-  ropt.max_mismatches = opt.max_mismatches;
-  ropt.verbose = !opt.quiet && !opt.json;
-  if (!opt.json) {
-    std::printf("replaying %s (%s, %zu messages) %s\n",
-                recording.source.c_str(),
-                replay::to_string(recording.format),
-                recording.messages.size(),
-                session->target().c_str());
-  }
-  const replay::ReplayResult r = replay::run_replay(recording, *session, ropt, &std::cout);
-  if (opt.json) {
-    std::printf("%s\n", replay::result_json(r).c_str());
-  } else {
-    for (const replay::Mismatch& m : r.mismatches) {
-      std::printf("%s", replay::format_mismatch(r.source, m).c_str());
-    }
-    std::printf(
-        "%s: %zu request messages, %zu recorded answers, %zu matched%s; skipped %zu "
-        "heartbeats, %zu other\n",
-        r.source.c_str(),
-        r.requests,
-        r.answers,
-        r.matched,
-        r.mismatches.empty() ? " (every answer byte for byte)"
-                             : (", " + std::to_string(r.mismatches.size()) + " MISMATCHED" +
-                                (r.stopped_early ? " (stopped)" : ""))
-                                   .c_str(),
-        r.heartbeats,
-        r.other);
-  }
-  std::fflush(stdout);
-  return r.mismatches.empty() ? 0 : 1;
-}
-
-}  // namespace
+#include "commands.hpp"
 
 static int run_tool(int argc, char** argv) {
   CLI::App app{
@@ -148,49 +15,9 @@ static int run_tool(int argc, char** argv) {
       "-l log, docs/recordings.md) through cmmcomp-agent's own request handlers with the given "
       "model, or against a live agent (--live), and checks every answer byte for byte.\n"
       "Exit status: 0 every answer matches, 1 a mismatch, 2 unreadable input or bad options."};
-  Options opt;
-  app.add_option("SESSION", opt.session, "the recording")->required();
-  app.add_option("--model",
-                 opt.models,
-                 "model file, [AXIS=]PATH as for cmmcomp-agent (default: the shipped model)");
-  app.add_flag("--json", opt.json, "print the result as JSON");
-  app.add_flag("--quiet", opt.quiet, "no line per request, only mismatches and the summary");
-  app.add_option("--max-mismatches",
-                 opt.max_mismatches,
-                 "stop after this many mismatching requests, 0 = report all")
-      ->capture_default_str();
-  app.add_option("--live",
-                 opt.live,
-                 "replay against a running agent instead: modbus:tcp:HOST:PORT or can:IFACE");
-  app.add_option("--outside-domain",
-                 opt.outside_domain,
-                 "as the agent that was recorded: clamp, extrapolate or reject")
-      ->capture_default_str()
-      ->check(cmmcomp::serving::domain_policy_name());
-  app.add_option("--modbus-unit", opt.modbus_unit, "the agent's Modbus unit id")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 247));
-  app.add_option("--can-base-id", opt.can_base_id, "the agent's 11-bit base identifier")
-      ->capture_default_str();
-  app.add_option("--can-part-timeout-ms",
-                 opt.can_part_timeout_ms,
-                 "the agent's longest gap between the frames of one request")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 60'000));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return cmmcomp::tools::usage_exit(app, e);
-  }
-  try {
-    return run(opt);
-  } catch (const cmmcomp::ConfigError& e) {
-    std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "cmmcomp-replay: %s\n", e.what());
-    return 1;
-  }
+  const cmmcomp::tools::Command command = cmmcomp::tools::replay::add_options(app);
+  return cmmcomp::tools::run_commands(
+      app, {command}, "cmmcomp-replay", argc, argv, cmmcomp::tools::config_error_is_usage);
 }
 
 int main(int argc, char** argv) {
