@@ -330,6 +330,40 @@ std::string format_plan_table(const PlanReport& r) {
   return out;
 }
 
+void restrict_to_capabilities(PlanProblem& problem,
+                              const motion::ControllerCapabilities& capabilities,
+                              const std::string& machine) {
+  const struct {
+    motion::Setting setting;
+    Interval* interval;
+    const char* option;
+  } limits[] = {
+      {motion::Setting::kPositioningSpeed, &problem.pv_mm_s, "--pv"},
+      {motion::Setting::kPositioningAccel, &problem.pa_mm_s2, "--pa"},
+      {motion::Setting::kApproachSpeed, &problem.av_mm_s, "--av"},
+      {motion::Setting::kApproachAccel, &problem.aa_mm_s2, "--aa"},
+      {motion::Setting::kApproachDistance, &problem.ad_mm, "--ad"},
+  };
+  for (const auto& l : limits) {
+    const motion::SettingInfo& info = motion::setting_info(l.setting);
+    const motion::SettingRange r = capabilities[l.setting];
+    const Interval cap{r.min / info.to_si, r.max / info.to_si};
+    const Interval given = *l.interval;
+    *l.interval = {std::max(given.lo, cap.lo), std::min(given.hi, cap.hi)};
+    if (!(l.interval->lo <= l.interval->hi)) {
+      throw ConfigError(fmt::format(
+          "{} {:g}:{:g} and the capabilities of {} ({} {:g} .. {:g}) have nothing in common",
+          l.option,
+          given.lo,
+          given.hi,
+          machine,
+          info.symbol,
+          cap.lo,
+          cap.hi));
+    }
+  }
+}
+
 Interval parse_interval(const std::string& text, const std::string& option) {
   const auto colon = text.find(':');
   if (colon == std::string::npos) throw ConfigError(option + ": '" + text + "' is not LO:HI");

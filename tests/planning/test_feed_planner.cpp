@@ -7,6 +7,7 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/default_model.hpp>
 #include <cmmcomp/planning/feed_planner.hpp>
+#include <cmmcomp/planning/plan_report.hpp>
 #include <string>
 #include <vector>
 
@@ -617,3 +618,42 @@ TEST(PlanConditions, FromTheModelGivenOrRefused) {
 }
 
 }  // namespace
+
+namespace cmmcomp::planning {
+namespace {
+
+TEST(PlanCapabilities, TheMachinesCapabilitiesNarrowTheLimitsAndAnEmptyOneIsAnError) {
+  motion::ControllerCapabilities caps = motion::fixed_timing_capabilities(0.5, 0.05);
+  caps[motion::Setting::kPositioningSpeed] = {0.001, 0.5};     // 1 .. 500 mm/s
+  caps[motion::Setting::kPositioningAccel] = {0.010, 1.2};     // 10 .. 1200 mm/s²
+  caps[motion::Setting::kApproachSpeed] = {0.0005, 0.020};     // 0.5 .. 20 mm/s
+  caps[motion::Setting::kApproachDistance] = {0.0005, 0.015};  // 0.5 .. 15 mm
+  PlanProblem p;
+  p.pv_mm_s = {0.0, 1e9};
+  p.av_mm_s = {10.0, 40.0};
+  p.ad_mm = {2.0, 1e9};
+  restrict_to_capabilities(p, caps, "m.toml");
+  EXPECT_DOUBLE_EQ(p.pv_mm_s.lo, 1.0);
+  EXPECT_DOUBLE_EQ(p.pv_mm_s.hi, 500.0);
+  EXPECT_DOUBLE_EQ(p.pa_mm_s2.hi, 1200.0);
+  EXPECT_DOUBLE_EQ(p.av_mm_s.lo, 10.0);  // the tighter of the two ends
+  EXPECT_DOUBLE_EQ(p.av_mm_s.hi, 20.0);
+  EXPECT_DOUBLE_EQ(p.ad_mm.lo, 2.0);
+  EXPECT_DOUBLE_EQ(p.ad_mm.hi, 15.0);
+  // AA's capability is MoveLimits (fixed_timing_capabilities): the problem's own range stays.
+  EXPECT_DOUBLE_EQ(p.aa_mm_s2.hi, 1e6);
+
+  PlanProblem q;
+  q.av_mm_s = {25.0, 40.0};
+  try {
+    restrict_to_capabilities(q, caps, "m.toml");
+    FAIL() << "AV 25..40 against 0.5..20 was accepted";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("--av 25:40"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("m.toml (AV 0.5 .. 20)"), std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+}  // namespace cmmcomp::planning

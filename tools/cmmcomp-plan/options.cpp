@@ -54,7 +54,8 @@ Command add_options(CLI::App& app) {
   app.add_option("--machine",
                  opt->machine,
                  "machine file whose controller dwell and smoothing count in the time per point "
-                 "(default: those the model was trained at; it must agree with them)");
+                 "(default: those the model was trained at; it must agree with them), and whose "
+                 "[capabilities] narrow --pv, --pa, --av, --aa and --ad");
   app.add_option("--edge-margin",
                  opt->edge_margin,
                  "share of each model input's range kept clear at both ends, in [0, 0.45) "

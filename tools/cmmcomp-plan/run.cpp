@@ -53,6 +53,7 @@ int run(const Options& opt, bool y_given) {
   if (opt.trained_pa_given) request.given.pa_mm_s2 = opt.trained_pa;
   if (opt.trained_aa_given) request.given.aa_mm_s2 = opt.trained_aa;
   if (!opt.machine.empty()) {
+    planning::restrict_to_capabilities(p, machine.capabilities, opt.machine);
     request.given.dwell_s = machine.parameters.controller_dwell_s;
     request.given.smoothing_s = machine.parameters.controller_smoothing_s;
     request.given.machine_label = "the controller of " + opt.machine;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cmmcomp/io/compensation_model_file.hpp>
+#include <cmmcomp/motion/controller_capabilities.hpp>
 #include <cmmcomp/planning/feed_planner.hpp>
 #include <string>
 #include <vector>
@@ -70,6 +71,14 @@ std::string format_plan_json(const PlanReport& report);
 /// The settings found as cmmcomp-vc --fast/--slow values: "compensated=pv=…,…" and
 /// "uncompensated=…" lines (a line only for a setting found).
 std::string format_vc_settings(const PlanReport& report);
+
+/// Narrows the machine limits of `problem` (PV, PA, AV, AA, and AD with the feature's) to what
+/// the machine's controller accepts (docs/machine-file.md, "Capabilities"), so that no planned
+/// setting is one the controller refuses. ConfigError naming the setting, both ranges and
+/// `machine` when an intersection is empty.
+void restrict_to_capabilities(PlanProblem& problem,
+                              const motion::ControllerCapabilities& capabilities,
+                              const std::string& machine);
 
 /// Option texts. Each throws ConfigError naming `option`.
 /// "LO:HI" with 0 <= LO <= HI.
