@@ -12,6 +12,7 @@
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/toml_subset.hpp>
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <set>
@@ -320,6 +321,19 @@ std::string in_file_unit(const SettingInfo& info, double si) {
   return fmt::format("{:g} {}", si / info.to_si, unit_text(info));
 }
 
+/// The shortest text, in the file's unit, that reads back (times to_si, as the reader does) to
+/// exactly `si`: a range fixed at a fitted dwell must still hold that dwell once read back.
+std::string file_number(const SettingInfo& info, double si) {
+  const double x = si / info.to_si;
+  std::string best;
+  for (const double candidate : {x, std::nextafter(x, HUGE_VAL), std::nextafter(x, -HUGE_VAL)}) {
+    const std::string text = fmt::format("{}", candidate);
+    if (std::strtod(text.c_str(), nullptr) * info.to_si != si) continue;
+    if (best.empty() || text.size() < best.size()) best = text;
+  }
+  return best.empty() ? fmt::format("{}", x) : best;
+}
+
 std::string where_set(const SettingInfo& info) {
   return info.ipp_property != nullptr
              ? fmt::format("I++ DME {}", info.ipp_property)
@@ -379,8 +393,8 @@ std::string capabilities_problem(const Machine& machine) {
     const motion::SettingRange r = machine.capabilities[t.setting];
     if (!r.contains(t.value)) {
       return fmt::format(
-          "controller.{} = {:g} (the controller's own setting) is outside its capability "
-          "{:g} .. {:g} (capabilities.{}, capabilities.{})",
+          "controller.{} = {} (the controller's own setting) is outside its capability "
+          "{} .. {} (capabilities.{}, capabilities.{})",
           t.key,
           t.value,
           r.min,
@@ -495,7 +509,8 @@ Machine parse_machine(const std::string& text, const std::string& source) {
 
   const toml::node* version = doc.get("format_version");
   if (version == nullptr) {
-    throw ConfigError(source + ": missing 'format_version' (this library reads version " +
+    throw ConfigError(source + ": missing 'format_version' (this library reads versions " +
+                      std::to_string(kOldestMachineFileVersion) + " and " +
                       std::to_string(kMachineFileVersion) + ")");
   }
   if (version->is_integer() && version->as_integer()->get() == 1) {
@@ -666,11 +681,11 @@ std::string format_machine(const Machine& machine) {
   for (const SettingInfo& info : kSettings) {
     const motion::SettingRange r = machine.capabilities[info.setting];
     fmt::format_to(std::back_inserter(s),
-                   "{} = {:.12g}\n{} = {:.12g}  # {}{} ({})\n",
+                   "{} = {}\n{} = {}  # {}{} ({})\n",
                    capability_key(info, "min"),
-                   r.min / info.to_si,
+                   file_number(info, r.min),
                    capability_key(info, "max"),
-                   r.max / info.to_si,
+                   file_number(info, r.max),
                    info.description,
                    info.symbol == std::string(info.key) ? "" : std::string(" ") + info.symbol,
                    where_set(info));

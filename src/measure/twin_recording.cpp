@@ -15,6 +15,11 @@
 namespace cmmcomp::measure {
 namespace {
 
+/// A twin recording goes on past the touch by max(kPastTouchMin, kPastTouchShare · AV) of
+/// approach [m, s].
+constexpr double kPastTouchMin = 1e-3;
+constexpr double kPastTouchShare = 0.05;
+
 /// Linear interpolation in the twin's trace (sampled at 20 kHz plus its kinks and extrema, so
 /// the interpolation error is ~1e-5 of the signal). Before the move: at rest at 0.
 struct Trace {
@@ -103,7 +108,16 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
   trace_options.record_trace = true;
   trace_options.trace_rate_hz = 20000.0;
   dynamics::BridgeSimulator exact_sim(machine, exact_options);
-  dynamics::BridgeSimulator trace_sim(machine, trace_options);
+  // The trace runs on past the touch (below): its controller takes the longer approach, which is
+  // the recording's, not a setting anybody chose; exact_sim checks the planned move.
+  dynamics::Machine trace_machine = machine;
+  motion::SettingRange& ad = trace_machine.capabilities[motion::Setting::kApproachDistance];
+  ad.max = std::min(
+      motion::MoveLimits::kMaxDistance,
+      ad.max + std::max(kPastTouchMin,
+                        kPastTouchShare *
+                            trace_machine.capabilities[motion::Setting::kApproachSpeed].max));
+  dynamics::BridgeSimulator trace_sim(trace_machine, trace_options);
   cmmcomp::detail::SplitMix64 rng{setup.seed ^ 0x7472616365725f6eULL};
   PinkNoise pink;
   pink.sigma = setup.pink_noise_um * 1e-3;
@@ -119,7 +133,7 @@ std::vector<TwinMove> record_on_twin(const dynamics::Machine& machine,
     // The recording goes on past the touch, as a real one does: the same move with a longer
     // approach has the same motion up to the touch (the approach never decelerates).
     motion::ProbingMove longer = move;
-    longer.approach_distance += std::max(1e-3, 0.05 * move.approach_speed);
+    longer.approach_distance += std::max(kPastTouchMin, kPastTouchShare * move.approach_speed);
     const dynamics::SimulationResult run = trace_sim.simulate(longer, y_m);
     Trace tr;
     for (const dynamics::TraceSample& s : run.trace) {

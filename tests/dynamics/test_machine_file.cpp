@@ -578,24 +578,31 @@ TEST(MachineFile, EverySettingHasAUniqueKeyAnUnitAndItsIppPropertyOrNone) {
           << info.ipp_property;
     }
   }
+  // NaN is outside every range.
+  motion::ProbingMove nan_dwell = motion::baseline_move();
+  nan_dwell.dwell = std::nan("");
+  const motion::SettingViolation v =
+      motion::first_violation(default_machine().capabilities, nan_dwell);
+  EXPECT_TRUE(v.outside);
+  EXPECT_EQ(v.setting, motion::Setting::kDwell);
   // The settings I++ DME has no property for: the controller's configuration.
   EXPECT_EQ(motion::setting_info(motion::Setting::kDwell).ipp_property, nullptr);
   EXPECT_EQ(motion::setting_info(motion::Setting::kSmoothing).ipp_property, nullptr);
 }
 
-TEST(MachineFile, CapabilitiesRoundTripInTheFilesUnits) {
+TEST(MachineFile, CapabilitiesRoundTripExactlyInShortText) {
   Machine m = default_machine();
   m.capabilities[motion::Setting::kPositioningSpeed] = {0.0021, 0.4333};
   m.capabilities[motion::Setting::kApproachDistance] = {0.0003, 0.0127};
   m.capabilities[motion::Setting::kSmoothing] = {0.0, 0.15};
   const Machine back = parse_machine(format_machine(m), kSource);
-  // Kept in the file's units (mm, s) to 12 digits: the text is stable from the first writing.
+  // Each written as the shortest text in the file's unit that reads back to the same value.
   for (const motion::SettingInfo& info : motion::kSettings) {
-    EXPECT_DOUBLE_EQ(back.capabilities[info.setting].min, m.capabilities[info.setting].min)
-        << info.key;
-    EXPECT_DOUBLE_EQ(back.capabilities[info.setting].max, m.capabilities[info.setting].max)
-        << info.key;
+    EXPECT_EQ(back.capabilities[info.setting].min, m.capabilities[info.setting].min) << info.key;
+    EXPECT_EQ(back.capabilities[info.setting].max, m.capabilities[info.setting].max) << info.key;
   }
+  EXPECT_TRUE(contains(format_machine(m), "positioning_speed_max_mm_s = 433.3  #"))
+      << format_machine(m);
   EXPECT_EQ(format_machine(back), format_machine(m));
   const Machine again = parse_machine(format_machine(back), kSource);
   EXPECT_EQ(format_machine(again), format_machine(back));
@@ -611,8 +618,15 @@ TEST(MachineFile, AFormatTwoFileHasTheFixedTimingCapabilities) {
   const motion::SettingRange pv = m.capabilities[motion::Setting::kPositioningSpeed];
   EXPECT_EQ(pv.min, motion::MoveLimits::kMinSpeed);
   EXPECT_EQ(pv.max, motion::MoveLimits::kMaxSpeed);
-  // Written back, it is format 3 with those capabilities.
-  EXPECT_TRUE(contains(format_machine(m), "format_version = 3")) << format_machine(m);
+  // Written back, it is format 3 with those capabilities, and reads back to exactly them (the
+  // fixed range still holds the full-precision dwell and smoothing).
+  const std::string written = format_machine(m);
+  EXPECT_TRUE(contains(written, "format_version = 3")) << written;
+  const Machine back = parse_machine(written, kSource);
+  for (const motion::SettingInfo& info : motion::kSettings) {
+    EXPECT_EQ(back.capabilities[info.setting].min, m.capabilities[info.setting].min) << info.key;
+    EXPECT_EQ(back.capabilities[info.setting].max, m.capabilities[info.setting].max) << info.key;
+  }
 }
 
 TEST(MachineFile, ACapabilitiesSectionInAFormatTwoFileIsRefused) {

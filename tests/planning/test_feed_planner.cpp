@@ -640,8 +640,14 @@ TEST(PlanCapabilities, TheMachinesCapabilitiesNarrowTheLimitsAndAnEmptyOneIsAnEr
   EXPECT_DOUBLE_EQ(p.av_mm_s.hi, 20.0);
   EXPECT_DOUBLE_EQ(p.ad_mm.lo, 2.0);
   EXPECT_DOUBLE_EQ(p.ad_mm.hi, 15.0);
-  // AA's capability is MoveLimits (fixed_timing_capabilities): the problem's own range stays.
+  // AA's capability is MoveLimits' (fixed_timing_capabilities): the problem's 1e9 narrows to
+  // its 1e6 mm/s², and a problem range inside it stays.
   EXPECT_DOUBLE_EQ(p.aa_mm_s2.hi, 1e6);
+  PlanProblem inside;
+  inside.aa_mm_s2 = {30.0, 90.0};
+  restrict_to_capabilities(inside, caps, "m.toml");
+  EXPECT_DOUBLE_EQ(inside.aa_mm_s2.lo, 30.0);
+  EXPECT_DOUBLE_EQ(inside.aa_mm_s2.hi, 90.0);
 
   PlanProblem q;
   q.av_mm_s = {25.0, 40.0};

@@ -115,10 +115,12 @@ Command add_move(CLI::App& app) {
   move->add_option("--dwell",
                    cmd->dwell_s,
                    "settling dwell before the approach [s] (default: the machine's; within its "
-                   "[capabilities])");
+                   "[capabilities])")
+      ->check(finite_number() & CLI::Range(0.0, motion::MoveLimits::kMaxDwell));
   move->add_option("--smoothing",
                    cmd->smoothing_s,
-                   "command smoothing [s] (default: the machine's; within its [capabilities])");
+                   "command smoothing [s] (default: the machine's; within its [capabilities])")
+      ->check(finite_number() & CLI::Range(0.0, motion::MoveLimits::kMaxSmoothing));
   move->add_flag("--cvode",
                  cmd->cvode,
                  "integrate with SUNDIALS CVODE (the reference) instead of the exponential "

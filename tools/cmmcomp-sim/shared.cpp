@@ -8,16 +8,19 @@
 
 namespace cmmcomp::tools::sim {
 
-void MoveFlags::add_to(CLI::App& app) {
-  using L = cmmcomp::motion::MoveLimits;
-  // CLI::Range lets NaN through (no comparison fails): a number must be finite first.
-  const CLI::Validator finite(
+CLI::Validator finite_number() {
+  return CLI::Validator(
       [](std::string& text) {
         char* end = nullptr;
         const double v = std::strtod(text.c_str(), &end);
         return std::isfinite(v) ? std::string() : "'" + text + "' is not a finite number";
       },
       "FINITE");
+}
+
+void MoveFlags::add_to(CLI::App& app) {
+  using L = cmmcomp::motion::MoveLimits;
+  const CLI::Validator finite = finite_number();
   const auto range = [&finite](double lo_si, double hi_si) {
     return finite & CLI::Range(lo_si / kMm, hi_si / kMm);
   };

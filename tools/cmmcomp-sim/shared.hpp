@@ -27,6 +27,9 @@ struct MoveFlags {
   }
 };
 
+/// A validator that refuses NaN and infinity (CLI::Range lets NaN through: no comparison fails).
+CLI::Validator finite_number();
+
 /// The machine of `path` (empty: the embedded one); its implausible values as warnings on stderr.
 cmmcomp::dynamics::Machine machine_from(const std::string& path);
 

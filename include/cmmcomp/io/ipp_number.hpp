@@ -4,8 +4,9 @@
 ///
 /// I++ DME parsers accept at most 16 characters per number; the shortest exact text of a double
 /// (`5.700000000000003`) can take 17–24. A value is rounded to 6 decimals, and to fewer when its
-/// integer part needs the room (|v| ≥ 1e9); one whose integer part alone needs more than 16
-/// characters (|v| ≥ 1e16) has no I++ form and is a ConfigError, as is NaN or infinity.
+/// sign and integer part need the room (from 1e9, or -1e8); one whose sign and integer part alone
+/// need more than 16 characters (from 1e16, or -1e15) has no I++ form and is a ConfigError, as is
+/// NaN or infinity.
 #pragma once
 
 #include <cmath>
