@@ -190,6 +190,23 @@ TEST(MeasureExtract, UnevenTrackerSamplingGivesTheTwinsParameters) {
   EXPECT_THROW(record_on_twin(dynamics::default_machine(), l18_plan(), one), ConfigError);
 }
 
+TEST(MeasureExtract, ATwinRecordingAtTheLargestApproachTheControllerTakesRecordsPastTheTouch) {
+  // The recording runs on past the touch; at AD = the machine's largest approach distance that
+  // longer approach is the recording's, not a setting: the move records, and one beyond the
+  // capabilities is still refused.
+  const dynamics::Machine machine = dynamics::default_machine();
+  const double ad_max_mm = machine.capabilities[motion::Setting::kApproachDistance].max * 1e3;
+  std::vector<PlannedMove> plan(l18_plan().begin(), l18_plan().begin() + 1);
+  plan.front().settings.ad_mm = ad_max_mm;
+  plan.front().settings.av_mm_s = machine.capabilities[motion::Setting::kApproachSpeed].max * 1e3;
+  RecordingSetup s;
+  const std::vector<TwinMove> twin = record_on_twin(machine, plan, s);
+  ASSERT_EQ(twin.size(), 1u);
+  EXPECT_GT(twin.front().recording.tip_t_s.size(), 100u);
+  plan.front().settings.ad_mm = ad_max_mm * 1.01;
+  EXPECT_THROW(record_on_twin(machine, plan, s), Error);
+}
+
 TEST(MeasureExtract, AMoveThatCannotBeExtractedIsSkippedWithItsReason) {
   const dynamics::Machine machine = dynamics::default_machine();
   RecordingSetup s;
