@@ -309,16 +309,9 @@ std::string capability_key(const SettingInfo& info, const char* bound) {
   return fmt::format("{}_{}_{}", info.key, bound, info.unit);
 }
 
-/// The file's unit as text: "mm/s" for "mm_s".
-std::string unit_text(const SettingInfo& info) {
-  return info.unit == std::string("mm_s")    ? "mm/s"
-         : info.unit == std::string("mm_s2") ? "mm/s^2"
-                                             : info.unit;
-}
-
 /// "500 mm/s" from an SI value, in the file's unit.
 std::string in_file_unit(const SettingInfo& info, double si) {
-  return fmt::format("{:g} {}", si / info.to_si, unit_text(info));
+  return fmt::format("{:g} {}", si / info.to_si, info.unit_text);
 }
 
 /// The shortest text, in the file's unit, that reads back (times to_si, as the reader does) to
@@ -464,24 +457,22 @@ void parse_capabilities(const toml::table& section,
                         const Where& where,
                         motion::ControllerCapabilities& caps,
                         std::set<std::string>& seen) {
+  // Every key, its setting and bound, in kSettings order (min before max).
+  std::vector<std::string> keys;
+  for (const SettingInfo& info : kSettings) {
+    keys.push_back(capability_key(info, "min"));
+    keys.push_back(capability_key(info, "max"));
+  }
   for (auto&& [sub, value] : section) {
     const std::string key(sub.str());
-    const SettingInfo* info = nullptr;
-    bool is_min = false;
-    std::vector<std::string> keys;
-    for (const SettingInfo& candidate : kSettings) {
-      for (const char* bound : {"min", "max"}) {
-        keys.push_back(capability_key(candidate, bound));
-        if (keys.back() == key) {
-          info = &candidate;
-          is_min = bound == std::string("min");
-        }
-      }
-    }
-    if (info == nullptr) {
+    const auto found = std::find(keys.begin(), keys.end(), key);
+    if (found == keys.end()) {
       throw ConfigError(where(value) + ": unknown key 'capabilities." + key + "'" +
                         detail::did_you_mean(key, keys));
     }
+    const auto index = static_cast<std::size_t>(found - keys.begin());
+    const SettingInfo* info = &kSettings[index / 2];
+    const bool is_min = index % 2 == 0;
     const std::optional<double> v = value.template value<double>();
     if (!v || !(value.is_floating_point() || value.is_integer()) || !std::isfinite(*v)) {
       throw ConfigError(where(value) + ": key 'capabilities." + key + "' must be a finite number");

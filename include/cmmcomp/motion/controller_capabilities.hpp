@@ -40,10 +40,11 @@ struct SettingRange {
 /// How a setting is named, where it is set, and what a file may hold at all.
 struct SettingInfo {
   Setting setting;
-  const char* key;     ///< machine-file key stem: `<key>_min_<unit>`, `<key>_max_<unit>`
-  const char* unit;    ///< unit of the file's keys, as written in them: "mm_s", "mm_s2", "mm", "s"
-  double to_si;        ///< file unit to SI: 1e-3 for mm, 1 for s
-  const char* symbol;  ///< "PV", "PA", "AV", "AA", "AD", "dwell", "smoothing"
+  const char* key;   ///< machine-file key stem: `<key>_min_<unit>`, `<key>_max_<unit>`
+  const char* unit;  ///< unit of the file's keys, as written in them: "mm_s", "mm_s2", "mm", "s"
+  const char* unit_text;     ///< the same unit in messages: "mm/s", "mm/s^2", "mm", "s"
+  double to_si;              ///< file unit to SI: 1e-3 for mm, 1 for s
+  const char* symbol;        ///< "PV", "PA", "AV", "AA", "AD", "dwell", "smoothing"
   const char* description;   ///< one phrase for the docs and messages
   const char* ipp_property;  ///< the I++ DME property that sets it, or nullptr when there is none
   SettingRange limits;       ///< what a capability range may span at all [SI] (MoveLimits)
@@ -53,6 +54,7 @@ inline constexpr SettingInfo kSettings[kSettingCount] = {
     {Setting::kPositioningSpeed,
      "positioning_speed",
      "mm_s",
+     "mm/s",
      1e-3,
      "PV",
      "positioning speed",
@@ -61,6 +63,7 @@ inline constexpr SettingInfo kSettings[kSettingCount] = {
     {Setting::kPositioningAccel,
      "positioning_accel",
      "mm_s2",
+     "mm/s^2",
      1e-3,
      "PA",
      "positioning acceleration",
@@ -69,6 +72,7 @@ inline constexpr SettingInfo kSettings[kSettingCount] = {
     {Setting::kApproachSpeed,
      "approach_speed",
      "mm_s",
+     "mm/s",
      1e-3,
      "AV",
      "approach (probing) speed",
@@ -77,6 +81,7 @@ inline constexpr SettingInfo kSettings[kSettingCount] = {
     {Setting::kApproachAccel,
      "approach_accel",
      "mm_s2",
+     "mm/s^2",
      1e-3,
      "AA",
      "approach acceleration",
@@ -84,6 +89,7 @@ inline constexpr SettingInfo kSettings[kSettingCount] = {
      {MoveLimits::kMinAccel, MoveLimits::kMaxAccel}},
     {Setting::kApproachDistance,
      "approach_distance",
+     "mm",
      "mm",
      1e-3,
      "AD",
@@ -93,6 +99,7 @@ inline constexpr SettingInfo kSettings[kSettingCount] = {
     {Setting::kDwell,
      "dwell",
      "s",
+     "s",
      1.0,
      "dwell",
      "settling dwell at rest at the pre-hit point before the approach",
@@ -100,6 +107,7 @@ inline constexpr SettingInfo kSettings[kSettingCount] = {
      {0.0, MoveLimits::kMaxDwell}},
     {Setting::kSmoothing,
      "smoothing",
+     "s",
      "s",
      1.0,
      "smoothing",
