@@ -37,6 +37,7 @@ layer_of() {
     include/cmmcomp/training/* | src/training/* | cmmcomp/training/*) echo training ;;
     include/cmmcomp/measure/* | src/measure/* | cmmcomp/measure/*) echo measure ;;
     include/cmmcomp/planning/* | src/planning/* | cmmcomp/planning/*) echo planning ;;
+    include/cmmcomp/ipp/* | src/ipp/* | cmmcomp/ipp/*) echo ipp ;;
     include/cmmcomp/vc/* | src/vc/* | cmmcomp/vc/*) echo vc ;;
     include/cmmcomp/study/* | src/study/* | cmmcomp/study/*) echo study ;;
     src/capi/*) echo capi ;;
@@ -56,8 +57,9 @@ allowed() {
     training) echo "core io twin training" ;;
     measure) echo "core io twin measure" ;;
     planning) echo "core io planning" ;;
-    vc) echo "core io twin planning vc" ;;
-    study) echo "core io twin training measure planning vc study" ;;
+    ipp) echo "core io ipp" ;;
+    vc) echo "core io twin planning ipp vc" ;;
+    study) echo "core io twin training measure planning ipp vc study" ;;
     capi) echo "core io" ;;
     plugins) echo "core plugins" ;;
     serving) echo "core io plugins serving" ;;
