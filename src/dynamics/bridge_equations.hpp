@@ -20,8 +20,12 @@ enum : int {
   kModeRate,
   kHoseInner,     // w: the hose link's first stage [m/s]
   kHoseVelocity,  // v_h: the hose's filtered velocity [m/s]
+  kMode2,         // η₂: the second mode's coordinate, its tip lag at Y = 0 [m]
+  kMode2Rate,
   kStates
 };
+/// The states of a machine without a second mode: the first kBaseStates.
+inline constexpr int kBaseStates = kMode2;
 
 /// Coefficients that depend only on the machine and Y, computed once per move.
 struct Coefficients {
@@ -33,6 +37,11 @@ struct Coefficients {
   double lag_force = 0;      // N per m/s² of filtered acceleration (the delayed lag term)
   double viscous = 0, coulomb = 0, inv_coulomb_speed = 0;
   double phi = 1;  // mode shape at the tip, φ(Y)
+  // The second mode (has_mode2 false: its states are not integrated, states == kBaseStates).
+  bool has_mode2 = false;
+  int states = kBaseStates;
+  double mode2_omega2 = 0, mode2_two_zeta_omega = 0, mode2_participation = 0;
+  double psi = 1;  // its shape at the tip, ψ(Y)
 };
 
 inline Coefficients coefficients(const MachineParameters& p, double y) {
@@ -43,12 +52,23 @@ inline Coefficients coefficients(const MachineParameters& p, double y) {
   c.ff_deficit = 1.0 - p.servo_feedforward_gain;
   c.inv_mass = 1.0 / p.servo_moving_mass_kg;
   c.bearing_drag = p.servo_bearing_drag_Ns_per_m;
-  const double w = 2.0 * kPi * p.mode_frequency_hz;
+  // The first mode's frequency at this Y (its modal mass grows with the carriage's share);
+  // its stiffness does not change, so the drag's modal acceleration is φ ω(Y)² / k = φ / m(Y).
+  const double w = 2.0 * kPi * mode_frequency_at(p, y);
   c.mode_omega2 = w * w;
   c.mode_two_zeta_omega = 2.0 * p.mode_damping_ratio * w;
   c.participation = p.mode_participation;
   c.phi = mode_shape(p, y);
   c.drag_per_mass = c.phi * c.mode_omega2 / p.mode_stiffness_N_per_m;  // φ / m_modal
+  c.has_mode2 = has_second_mode(p);
+  if (c.has_mode2) {
+    const double w2 = 2.0 * kPi * p.mode2_frequency_hz;
+    c.states = kStates;
+    c.mode2_omega2 = w2 * w2;
+    c.mode2_two_zeta_omega = 2.0 * p.mode2_damping_ratio * w2;
+    c.mode2_participation = p.mode2_participation;
+    c.psi = mode2_shape(p, y);
+  }
   c.inv_tau = 1.0 / p.hose_time_constant_s;
   // The delayed lag is given as tip lag per m/s² at Y = 0; as a drag force it is k · lag.
   c.lag_force = p.mode_stiffness_N_per_m * p.hose_accel_lag_s2;
@@ -94,6 +114,13 @@ inline double derivatives_given_coulomb(const Coefficients& c,
   // The hose link: two equal first-order stages (critically damped) following the drive speed.
   dy[kHoseInner] = (v - y[kHoseInner]) * c.inv_tau;
   dy[kHoseVelocity] = (y[kHoseInner] - y[kHoseVelocity]) * c.inv_tau;
+  // The second mode: base-excited by the drive's acceleration only (the hose acts at the
+  // carriage, which a higher mode barely moves).
+  if (c.has_mode2) {
+    dy[kMode2] = y[kMode2Rate];
+    dy[kMode2Rate] = c.mode2_participation * a - c.mode2_omega2 * y[kMode2] -
+                     c.mode2_two_zeta_omega * y[kMode2Rate];
+  }
   return a;
 }
 
@@ -105,11 +132,13 @@ inline double derivatives(const Coefficients& c,
   return derivatives_given_coulomb(c, cmd, y, coulomb_fraction(c, y[kHoseVelocity]), dy);
 }
 
-/// Raw error x_tip − x_scale [m] and its rate: the tip lags by φ(Y) η.
+/// Raw error x_tip − x_scale [m] and its rate: the tip lags by φ(Y) η (+ ψ(Y) η₂).
 inline double tip_error(const Coefficients& c, const double* y) noexcept {
+  if (c.has_mode2) return -c.phi * y[kMode] - c.psi * y[kMode2];
   return -c.phi * y[kMode];
 }
 inline double tip_error_rate(const Coefficients& c, const double* y) noexcept {
+  if (c.has_mode2) return -c.phi * y[kModeRate] - c.psi * y[kMode2Rate];
   return -c.phi * y[kModeRate];
 }
 

@@ -39,6 +39,10 @@ std::array<double, kStates> state_tolerances(const Coefficients& c, double error
   const double hose_lever = per_newton * slope;
   a[kHoseInner] = hose_lever > 0.0 ? error_tol / hose_lever : 1.0;
   a[kHoseVelocity] = a[kHoseInner];
+  if (c.has_mode2) {
+    a[kMode2] = error_tol / c.psi;
+    a[kMode2Rate] = a[kMode2] * std::sqrt(c.mode2_omega2);
+  }
   return a;
 }
 
@@ -89,7 +93,14 @@ struct BridgeSimulator::Impl {
   Integrator integrator;
 
   Impl(const Machine& m, const SimulationOptions& o)
-      : machine(m), options(o), integrator(o.integrator, &rhs, &forcing, kStates, &roots, 1) {}
+      : machine(m),
+        options(o),
+        integrator(o.integrator,
+                   &rhs,
+                   &forcing,
+                   has_second_mode(m.parameters) ? kStates : kBaseStates,
+                   &roots,
+                   1) {}
 };
 
 BridgeSimulator::BridgeSimulator(const Machine& machine, const SimulationOptions& options) {
@@ -194,7 +205,7 @@ SimulationResult BridgeSimulator::run(const motion::ProbingMove& cycle, double c
     for (int k = 0; k < profile.segment_count(); ++k) {
       const motion::Segment& seg = profile.segment(k);
       stepper.advance(seg, y.data(), trace_dt, [&](double t, const double* state) {
-        if (state != y.data()) std::copy(state, state + kStates, y.begin());
+        if (state != y.data()) std::copy(state, state + c.states, y.begin());
         record(t, seg.at(t - seg.start_time));
       });
     }

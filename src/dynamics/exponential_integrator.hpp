@@ -23,7 +23,8 @@ namespace cmmcomp::dynamics {
 
 class ExponentialIntegrator {
  public:
-  /// The model's states plus v_c, a_c, jerk, f₀, f₁.
+  /// The model's states plus v_c, a_c, jerk, f₀, f₁ (the largest: a machine without a second
+  /// mode uses the leading kBaseStates + 5).
   static constexpr int kAugmented = equations::kStates + 5;
   /// Row-major. Plain arrays and loops in a fixed order, not a SIMD library: the twin's data
   /// must be the same bits in every build (the release preset's -march=x86-64-v3 and the
@@ -32,7 +33,7 @@ class ExponentialIntegrator {
   /// retrained model by ~0.5 µm.
   using Matrix = std::array<double, std::size_t{kAugmented} * kAugmented>;
   using Vector = std::array<double, kAugmented>;
-  /// Receives a sample: its time [s] and the model's states (equations::kStates values).
+  /// Receives a sample: its time [s] and the model's states (Coefficients::states values).
   using Sink = std::function<void(double t, const double* y)>;
 
   /// `max_step_s` > 0 bounds the step; each segment is split into equal steps no longer.
@@ -56,6 +57,7 @@ class ExponentialIntegrator {
 
   equations::Coefficients c_;
   double max_step_;
+  int n_;  ///< augmented states in use: the machine's states + 5
   Matrix m_;
   struct Cached {
     double h = -1.0;

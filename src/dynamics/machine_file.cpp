@@ -189,6 +189,71 @@ const std::vector<Info>& machine_parameter_table() {
        0.2,
        3.0,
        "the paper's machine: Y = 0..500 mm"},
+      {"structure",
+       "carriage_mass_share",
+       "mu: the carriage and ram's share of the mode's modal mass at Y = 0, f1(Y) = f1 / sqrt(1 + "
+       "mu (phi(Y)^2 - 1))",
+       &member<&P::mode_carriage_mass_share>,
+       0.0,
+       1.0,
+       false,
+       0.0,
+       0.5,
+       "carriage and ram are 5-40 % of the mode's modal mass (a light carriage on a granite "
+       "bridge to a heavy ram on an aluminium one); moved out to where phi is 1.5-2x, they lower "
+       "f1 by 2-25 % (Rayleigh quotient), 0 = f1 independent of Y",
+       4,
+       0.0},
+      {"mode2",
+       "frequency_hz",
+       "natural frequency of the second X mode (ram bending, bridge torsion)",
+       &member<&P::mode2_frequency_hz>,
+       0.1,
+       2000.0,
+       false,
+       25.0,
+       200.0,
+       "the next modes of moving-bridge CMMs lie at 2-5x the first",
+       4,
+       60.0},
+      {"mode2",
+       "damping_ratio",
+       "modal damping ratio of the second mode",
+       &member<&P::mode2_damping_ratio>,
+       1e-4,
+       2.0,
+       false,
+       0.01,
+       0.1,
+       "as the first mode: air films and bolted joints dissipate little",
+       4,
+       0.03},
+      {"mode2",
+       "participation",
+       "inertial participation factor of the second mode (tip-normalised at Y = 0), 0 = no second "
+       "mode",
+       &member<&P::mode2_participation>,
+       0.0,
+       10.0,
+       false,
+       0.0,
+       0.5,
+       "a higher mode takes a smaller share of the drive's acceleration than the first (Gamma "
+       "0.1-1.6)",
+       4,
+       0.0},
+      {"mode2",
+       "shape_growth",
+       "psi(L) - 1: growth of the second mode's shape at the tip from Y = 0 to Y = L",
+       &member<&P::mode2_shape_growth>,
+       0.0,
+       20.0,
+       false,
+       0.0,
+       3.0,
+       "psi(Y) = 1 + g2 (Y/L)^3, as the first mode's",
+       4,
+       0.0},
       {"hose",
        "time_constant_s",
        "time constant of the critically damped hose link",
@@ -272,11 +337,20 @@ ModalSummary modal_summary(const MachineParameters& p) {
   s.mode_damping_ratio = p.mode_damping_ratio;
   const double omega = 2.0 * kPi * p.mode_frequency_hz;
   s.mode_mass_kg = p.mode_stiffness_N_per_m / (omega * omega);
+  s.mode_frequency_at_end_hz = mode_frequency_at(p, p.beam_length_m);
+  s.mode2_frequency_hz = has_second_mode(p) ? p.mode2_frequency_hz : 0.0;
   s.hose_frequency_hz = 1.0 / (2.0 * kPi * p.hose_time_constant_s);
   s.smoothing_periods = p.controller_smoothing_s * p.mode_frequency_hz;
   for (int i = 0; i < 3; ++i) {
-    const double phi = mode_shape(p, 0.5 * i * p.beam_length_m);
-    s.inertial_lag_um_per_m_s2[i] = 1e6 * phi * p.mode_participation / (omega * omega);
+    const double y = 0.5 * i * p.beam_length_m;
+    const double phi = mode_shape(p, y);
+    const double omega_y = 2.0 * kPi * mode_frequency_at(p, y);
+    s.inertial_lag_um_per_m_s2[i] = 1e6 * phi * p.mode_participation / (omega_y * omega_y);
+    if (has_second_mode(p)) {
+      const double omega2 = 2.0 * kPi * p.mode2_frequency_hz;
+      s.inertial_lag_um_per_m_s2[i] +=
+          1e6 * mode2_shape(p, y) * p.mode2_participation / (omega2 * omega2);
+    }
     s.drag_compliance_um_per_N[i] = 1e6 * phi * phi / p.mode_stiffness_N_per_m;
   }
   return s;
@@ -500,9 +574,11 @@ Machine parse_machine(const std::string& text, const std::string& source) {
 
   const toml::node* version = doc.get("format_version");
   if (version == nullptr) {
-    throw ConfigError(source + ": missing 'format_version' (this library reads versions " +
-                      std::to_string(kOldestMachineFileVersion) + " and " +
-                      std::to_string(kMachineFileVersion) + ")");
+    throw ConfigError(
+        fmt::format("{}: missing 'format_version' (this library reads versions {} to {})",
+                    source,
+                    kOldestMachineFileVersion,
+                    kMachineFileVersion));
   }
   if (version->is_integer() && version->as_integer()->get() == 1) {
     throw ConfigError(fmt::format(
@@ -516,13 +592,14 @@ Machine parse_machine(const std::string& text, const std::string& source) {
   if (!version->is_integer() || version->as_integer()->get() < kOldestMachineFileVersion ||
       version->as_integer()->get() > kMachineFileVersion) {
     throw ConfigError(
-        fmt::format("{}: format_version must be {} or {} (this library's machine-file "
+        fmt::format("{}: format_version must be {} to {} (this library's machine-file "
                     "formats)",
                     where(*version),
                     kOldestMachineFileVersion,
                     kMachineFileVersion));
   }
-  const bool has_capabilities = version->as_integer()->get() >= 3;
+  const auto file_version = static_cast<int>(version->as_integer()->get());
+  const bool has_capabilities = file_version >= 3;
 
   Machine m;
   std::set<std::string> seen;
@@ -589,6 +666,12 @@ Machine parse_machine(const std::string& text, const std::string& source) {
         throw ConfigError(where(value) + ": unknown key '" + full + "'" +
                           detail::did_you_mean(std::string(sub.str()), keys));
       }
+      if (file_version < info->since_format) {
+        throw ConfigError(fmt::format("{}: key '{}' needs format_version {} (docs/machine-file.md)",
+                                      where(value),
+                                      full,
+                                      info->since_format));
+      }
       const std::optional<double> v = value.value<double>();
       if (!v || !(value.is_floating_point() || value.is_integer())) {
         throw ConfigError(where(value) + ": key '" + full + "' must be a number");
@@ -607,9 +690,12 @@ Machine parse_machine(const std::string& text, const std::string& source) {
   }
   for (const Info& info : machine_parameter_table()) {
     const std::string full = std::string(info.section) + "." + info.key;
-    if (seen.count(full) == 0) {
-      throw ConfigError(source + ": missing key '" + full + "' (" + info.description + ")");
+    if (seen.count(full) != 0) continue;
+    if (file_version < info.since_format) {
+      info.set(m.parameters, info.absent);  // an older format: the mechanism is absent
+      continue;
     }
+    throw ConfigError(source + ": missing key '" + full + "' (" + info.description + ")");
   }
   if (has_capabilities) {
     for (const SettingInfo& info : kSettings) {
@@ -685,7 +771,9 @@ std::string format_machine(const Machine& machine) {
   fmt::format_to(std::back_inserter(s),
                  "\n# Derived (comments, not read back):\n"
                  "#   servo loop:      {:.3g} Hz, damping ratio {:.3g}\n"
-                 "#   structural mode: {:.4g} Hz, damping ratio {:.3g}, modal mass {:.4g} kg\n"
+                 "#   structural mode: {:.4g} Hz ({:.4g} Hz at Y = L), damping ratio {:.3g}, modal "
+                 "mass {:.4g} kg\n"
+                 "#   second mode:     {}\n"
                  "#   hose link:       {:.3g} Hz (1/(2 pi tau)), damping ratio 1 (critical)\n"
                  "#   smoothing:       {:.3g} periods of the structural mode\n"
                  "#   tip lag per m/s^2 at Y = 0, L/2, L: {:.4g}, {:.4g}, {:.4g} um\n"
@@ -693,8 +781,13 @@ std::string format_machine(const Machine& machine) {
                  m.servo_frequency_hz,
                  m.servo_damping_ratio,
                  m.mode_frequency_hz,
+                 m.mode_frequency_at_end_hz,
                  m.mode_damping_ratio,
                  m.mode_mass_kg,
+                 m.mode2_frequency_hz > 0.0 ? fmt::format("{:.4g} Hz, damping ratio {:.3g}",
+                                                          m.mode2_frequency_hz,
+                                                          machine.parameters.mode2_damping_ratio)
+                                            : std::string("none"),
                  m.hose_frequency_hz,
                  m.smoothing_periods,
                  m.inertial_lag_um_per_m_s2[0],

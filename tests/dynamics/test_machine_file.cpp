@@ -357,7 +357,7 @@ TEST(MachineFile, WrongFormatVersionNamesItsLine) {
   std::vector<std::string> lines = split_lines(format_machine(default_machine()));
   const int i = find_line(lines, "format_version");
   ASSERT_GE(i, 0);
-  for (const char* bad : {"4", "1.5", "0", "\"3\"", "3.0"}) {
+  for (const char* bad : {"5", "1.5", "0", "\"3\"", "3.0"}) {
     lines[static_cast<std::size_t>(i)] = std::string("format_version = ") + bad;
     const std::string msg = error_of(join_lines(lines));
     EXPECT_TRUE(contains(msg, at_line(i + 1))) << bad << ": " << msg;
@@ -553,17 +553,33 @@ TEST(MachineFile, RoundTripKeepsFullPrecision) {
 }
 
 /// The default machine's file text as format 2: its version line, no [capabilities] section.
-std::string as_format_two(const std::string& text) {
+/// `text` (a format-4 file) as a file of format `version`: without the keys and sections that
+/// version does not have.
+std::string as_format(const std::string& text, int version) {
   std::vector<std::string> lines = split_lines(text);
   std::vector<std::string> out;
-  bool in_capabilities = false;
+  std::string section;
   for (const std::string& line : lines) {
-    if (starts_with(line, "[")) in_capabilities = starts_with(line, "[capabilities]");
-    if (in_capabilities) continue;
-    out.push_back(starts_with(line, "format_version") ? "format_version = 2" : line);
+    if (starts_with(line, "[")) section = line.substr(1, line.find(']') - 1);
+    if (section == "capabilities" && version < 3) continue;
+    // A newer key, or the header of a section whose keys are all newer.
+    bool newer = false;
+    bool whole_section_newer = false;
+    bool older_key = false;
+    for (const Info& info : machine_parameter_table()) {
+      if (section != info.section) continue;
+      older_key = older_key || info.since_format <= version;
+      whole_section_newer = !older_key;
+      newer =
+          newer || (info.since_format > version && starts_with(line, std::string(info.key) + " ="));
+    }
+    if (newer || (whole_section_newer && starts_with(line, "[" + section + "]"))) continue;
+    out.push_back(
+        starts_with(line, "format_version") ? "format_version = " + std::to_string(version) : line);
   }
   return join_lines(out);
 }
+std::string as_format_two(const std::string& text) { return as_format(text, 2); }
 
 TEST(MachineFile, EverySettingHasAUniqueKeyAnUnitAndItsIppPropertyOrNone) {
   std::set<std::string> keys;
@@ -618,10 +634,11 @@ TEST(MachineFile, AFormatTwoFileHasTheFixedTimingCapabilities) {
   const motion::SettingRange pv = m.capabilities[motion::Setting::kPositioningSpeed];
   EXPECT_EQ(pv.min, motion::MoveLimits::kMinSpeed);
   EXPECT_EQ(pv.max, motion::MoveLimits::kMaxSpeed);
-  // Written back, it is format 3 with those capabilities, and reads back to exactly them (the
-  // fixed range still holds the full-precision dwell and smoothing).
+  // Written back, it is the current format with those capabilities, and reads back to exactly
+  // them (the fixed range still holds the full-precision dwell and smoothing).
   const std::string written = format_machine(m);
-  EXPECT_TRUE(contains(written, "format_version = 3")) << written;
+  EXPECT_TRUE(contains(written, "format_version = " + std::to_string(kMachineFileVersion)))
+      << written;
   const Machine back = parse_machine(written, kSource);
   for (const motion::SettingInfo& info : motion::kSettings) {
     EXPECT_EQ(back.capabilities[info.setting].min, m.capabilities[info.setting].min) << info.key;
@@ -696,6 +713,59 @@ TEST(MachineFile, TheKeyRowsListEveryParameterAndCapabilityKey) {
   for (const motion::SettingInfo& info : motion::kSettings) {
     EXPECT_TRUE(contains(rows, std::string("| capabilities | ") + info.key + "_min_" + info.unit))
         << info.key;
+  }
+}
+
+TEST(MachineFile, AnOlderFormatReadsWithoutTheNewerMechanisms) {
+  // Format 3 has no carriage mass share and no second mode: the machine reads with the values
+  // that switch them off, and is otherwise the same machine.
+  Machine d = default_machine();
+  d.parameters.mode_carriage_mass_share = 0.3;
+  d.parameters.mode2_participation = 0.2;
+  d.parameters.mode2_frequency_hz = 70.0;
+  const Machine m = parse_machine(as_format(format_machine(d), 3), kSource);
+  for (const Info& info : machine_parameter_table()) {
+    const double expected = info.since_format > 3 ? info.absent : info.get(d.parameters);
+    EXPECT_EQ(info.get(m.parameters), expected) << info.section << "." << info.key;
+  }
+  EXPECT_FALSE(has_second_mode(m.parameters));
+  EXPECT_EQ(mode_frequency_at(m.parameters, m.parameters.beam_length_m),
+            m.parameters.mode_frequency_hz);
+}
+
+TEST(MachineFile, ANewerKeyInAnOlderFormatIsRefusedWithItsLine) {
+  std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+  const int v = find_line(lines, "format_version");
+  ASSERT_GE(v, 0);
+  lines[static_cast<std::size_t>(v)] = "format_version = 3";
+  // Keep the format-3 file's sections, and one format-4 key in [structure].
+  const std::string text = as_format(join_lines(lines), 3) + "\n";
+  std::vector<std::string> with = split_lines(text);
+  const int s = find_line(with, "[structure]");
+  ASSERT_GE(s, 0);
+  with.insert(with.begin() + s + 1, "carriage_mass_share = 0.2");
+  const std::string msg = error_of(join_lines(with));
+  EXPECT_TRUE(contains(msg, at_line(s + 2))) << msg;
+  EXPECT_TRUE(contains(msg, "structure.carriage_mass_share")) << msg;
+  EXPECT_TRUE(contains(msg, "needs format_version 4")) << msg;
+}
+
+TEST(MachineFile, EveryFormatFourKeyIsRequiredInFormatFour) {
+  for (const Info& info : machine_parameter_table()) {
+    if (info.since_format < 4) continue;
+    std::vector<std::string> lines = split_lines(format_machine(default_machine()));
+    int i = -1;
+    std::string section;
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      if (starts_with(lines[k], "[")) section = lines[k].substr(1, lines[k].find(']') - 1);
+      if (section == info.section && starts_with(lines[k], std::string(info.key) + " =")) {
+        i = static_cast<int>(k);
+      }
+    }
+    ASSERT_GE(i, 0) << info.key;
+    lines.erase(lines.begin() + i);
+    const std::string msg = error_of(join_lines(lines));
+    EXPECT_TRUE(contains(msg, std::string("missing key '") + info.section + "." + info.key)) << msg;
   }
 }
 

@@ -6,6 +6,8 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cmmcomp-sim machine --keys failed")
 endif()
 file(READ "${DOC}" doc)
+# A semicolon inside a row is text, not a list separator.
+string(REPLACE ";" "\\;" rows "${rows}")
 string(REPLACE "\n" ";" row_list "${rows}")
 set(count 0)
 foreach(row IN LISTS row_list)

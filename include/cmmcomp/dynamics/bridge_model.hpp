@@ -110,8 +110,9 @@ class BridgeSimulator {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Number of states in the model (for documentation and tests).
-inline constexpr int kBridgeStateCount = 6;
+/// Number of states in the model (for documentation and tests): 6, and 8 for a machine with a
+/// second structural mode.
+inline constexpr int kBridgeStateCount = 8;
 
 /// One simulated move as cmmcomp-sim move prints it: the machine, the four parameters `e` [µm]
 /// (with noise, when added), the instants they were taken at, and the integrator's effort.

@@ -7,7 +7,11 @@
 ///    together, so it never enters tip − scale;
 ///  - structure: the dominant X-direction mode of bridge and ram (10–50 Hz, lightly damped),
 ///    excited by the drive's acceleration and by the hose drag at the carriage; its shape at the
-///    tip grows with the carriage position Y (the beam is a cantilever from the drive leg);
+///    tip grows with the carriage position Y (the beam is a cantilever from the drive leg), and
+///    its frequency may fall as the carriage's mass moves out along it; optionally a second,
+///    higher mode excited by the drive's acceleration (format 4; absent when its participation
+///    is 0). The compensation models do not contain these two (docs/machine-model.md, "What the
+///    models do not know"): they make a twin that is not the model's own equations;
 ///  - hose: the hose and cable-carrier drag (viscous plus Coulomb), reaching the carriage through
 ///    a critically damped link, so it builds up and relaxes over its time constant;
 ///  - controller: the settings that shape every move (a settling dwell at the pre-hit point, a
@@ -15,6 +19,7 @@
 /// Machine files are TOML (docs/machine-file.md); every key carries its unit in its name.
 #pragma once
 
+#include <cmath>
 #include <cmmcomp/dynamics/parameter_table.hpp>
 #include <cmmcomp/motion/controller_capabilities.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
@@ -39,6 +44,14 @@ struct MachineParameters {
   double mode_participation = 0.5;        ///< inertial participation factor Γ [-]
   double mode_shape_growth = 0.5;         ///< φ(L) − 1: mode shape at the far end [-]
   double beam_length_m = 0.5;             ///< carriage travel L along the beam [m]
+  /// μ: the carriage and ram's share of the mode's modal mass at Y = 0 [-]. The modal mass grows
+  /// as 1 + μ (φ(Y)² − 1) when the carriage moves out, so f₁(Y) = f₁ / √(1 + μ (φ(Y)² − 1)).
+  double mode_carriage_mass_share = 0.0;
+  // the second structural mode (absent when its participation is 0)
+  double mode2_frequency_hz = 60.0;   ///< natural frequency [Hz]
+  double mode2_damping_ratio = 0.03;  ///< modal damping ratio [-]
+  double mode2_participation = 0.0;   ///< inertial participation factor Γ₂ [-]; 0 = no mode
+  double mode2_shape_growth = 0.0;  ///< ψ(L) − 1: its shape at the tip, ψ(Y) = 1 + g₂ (Y/L)³
   // hose and cable carrier
   double hose_time_constant_s = 0.1;          ///< critically damped link time constant [s]
   double hose_viscous_drag_Ns_per_m = 200.0;  ///< viscous drag [N s/m]
@@ -57,10 +70,30 @@ inline double mode_shape(const MachineParameters& p, double y) noexcept {
   return 1.0 + p.mode_shape_growth * x * x * x;
 }
 
+/// The first mode's natural frequency [Hz] with the carriage at `y` [m]: its modal mass grows by
+/// the carriage's share μ times φ(Y)² − 1, its stiffness stays.
+inline double mode_frequency_at(const MachineParameters& p, double y) noexcept {
+  const double phi = mode_shape(p, y);
+  return p.mode_frequency_hz / std::sqrt(1.0 + p.mode_carriage_mass_share * (phi * phi - 1.0));
+}
+
+/// Shape of the second mode at the tip, normalised to 1 at Y = 0: ψ(Y) = 1 + g₂ (Y/L)³.
+inline double mode2_shape(const MachineParameters& p, double y) noexcept {
+  const double x = y / p.beam_length_m;
+  return 1.0 + p.mode2_shape_growth * x * x * x;
+}
+
+/// True when the machine has a second structural mode (its participation is not 0).
+inline bool has_second_mode(const MachineParameters& p) noexcept {
+  return p.mode2_participation != 0.0;
+}
+
 /// Derived modal figures of a machine, for `cmmcomp-sim machine` and the docs.
 struct ModalSummary {
   double servo_frequency_hz = 0, servo_damping_ratio = 0;
   double mode_frequency_hz = 0, mode_damping_ratio = 0, mode_mass_kg = 0;
+  double mode_frequency_at_end_hz = 0;  ///< the first mode's frequency with the carriage at Y = L
+  double mode2_frequency_hz = 0;        ///< 0 when the machine has no second mode
   double hose_frequency_hz = 0, hose_damping_ratio = 1.0;  ///< the link: 1/(2π τ), critical
   double smoothing_periods = 0;  ///< command smoothing in periods of the structural mode
   /// Static tip lag per m/s² of acceleration and per N of hose drag at Y = 0, L/2, L.
@@ -106,9 +139,11 @@ std::string capabilities_problem(const Machine& machine);
 /// The table every machine-file operation iterates: section, key, unit, bounds.
 const std::vector<ParameterInfo<MachineParameters>>& machine_parameter_table();
 
-/// Version of the machine-file format this library writes. It reads this one and format 2 (no
-/// [capabilities] section: fixed_timing_capabilities of its [controller] timing).
-inline constexpr int kMachineFileVersion = 3;
+/// Version of the machine-file format this library writes. It reads this one, format 3 (no
+/// structure.carriage_mass_share and no [mode2] section: the first mode's frequency does not
+/// depend on Y, no second mode) and format 2 (neither, and no [capabilities] section:
+/// fixed_timing_capabilities of its [controller] timing).
+inline constexpr int kMachineFileVersion = 4;
 inline constexpr int kOldestMachineFileVersion = 2;
 
 /// The default machine, compiled in from data/machines/default.toml: identified against the

@@ -20,6 +20,9 @@ struct ParameterInfo {
   double plausible_min;     ///< smallest plausible value on a real machine (identification bound)
   double plausible_max;     ///< largest plausible value (identification bound)
   const char* basis;        ///< where the plausible range comes from (one sentence, for the docs)
+  /// The first file format that has the key; an older file does not, and reads `absent`.
+  int since_format = 0;
+  double absent = 0.0;  ///< the value an older file's machine has (the mechanism switched off)
 
   double get(const Params& p) const { return ref(const_cast<Params&>(p)); }
   void set(Params& p, double value) const { ref(p) = value; }
