@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cmmcomp/doe/anova.hpp>
@@ -11,6 +12,7 @@
 #include <cmmcomp/paper_reference.hpp>
 #include <cmmcomp/training/machine_identification.hpp>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <thread>
@@ -282,6 +284,51 @@ class SimulationCost final : public ceres::CostFunction {
   int n_;
 };
 
+/// Fills report.relative_sigma and report.residual_scale from the Jacobian at the fit `x` (log
+/// parameters): the covariance (JᵀJ)⁻¹ of the normalised residuals, scaled by the reduced χ²
+/// when the residuals spread more than their σ (the model misses something, or the σ are
+/// optimistic), never scaled down. A direction the data do not determine (a singular value below
+/// 1e-8 of the largest) makes every parameter that takes part in it infinite.
+void parameter_uncertainty(const SimulationCost& cost,
+                           int residuals,
+                           const std::vector<double>& x,
+                           double final_cost,
+                           IdentificationReport& report) {
+  const auto n = static_cast<Eigen::Index>(x.size());
+  const auto m = static_cast<Eigen::Index>(residuals);
+  report.relative_sigma.assign(x.size(), std::numeric_limits<double>::infinity());
+  std::vector<double> r(static_cast<std::size_t>(m));
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> j(m, n);
+  const double* parameters[] = {x.data()};
+  double* jacobians[] = {j.data()};
+  if (!cost.Evaluate(parameters, r.data(), jacobians)) return;
+  const double dof = static_cast<double>(m - n);
+  report.residual_scale = dof > 0 ? std::sqrt(std::max(1.0, 2.0 * final_cost / dof)) : 1.0;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(j, Eigen::ComputeThinV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  const Eigen::MatrixXd& v = svd.matrixV();
+  if (sv.size() == 0 || !(sv(0) > 0.0)) return;
+  std::vector<bool> undetermined(x.size(), false);
+  Eigen::VectorXd variance = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index k = 0; k < sv.size(); ++k) {
+    if (sv(k) < 1e-8 * sv(0)) {
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (std::abs(v(i, k)) > 0.1) undetermined[static_cast<std::size_t>(i)] = true;
+      }
+      continue;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) variance(i) += v(i, k) * v(i, k) / (sv(k) * sv(k));
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (undetermined[static_cast<std::size_t>(i)]) continue;
+    // σ of log(value); the value's relative 1σ is exp(σ) − 1 above, 1 − exp(−σ) below: their
+    // mean, which is σ to first order.
+    const double sigma_log = std::sqrt(variance(i)) * report.residual_scale;
+    report.relative_sigma[static_cast<std::size_t>(i)] =
+        0.5 * (std::expm1(sigma_log) - std::expm1(-sigma_log));
+  }
+}
+
 }  // namespace
 
 bool IdentificationOptions::is_valid(std::string* why) const {
@@ -377,7 +424,8 @@ IdentificationReport identify_machine(const Machine& start,
   const Problem problem(start, targets, options, free);
   const int n = static_cast<int>(x.size());
   ceres::Problem ceres_problem;
-  ceres_problem.AddResidualBlock(new SimulationCost(problem, n), nullptr, x.data());
+  auto* cost = new SimulationCost(problem, n);  // owned by ceres_problem
+  ceres_problem.AddResidualBlock(cost, nullptr, x.data());
   for (int i = 0; i < n; ++i) {
     const Info& info = *free[static_cast<std::size_t>(i)];
     // Identification stays inside the plausible range (docs/machine-file.md).
@@ -425,6 +473,7 @@ IdentificationReport identify_machine(const Machine& start,
                                   : bound > 0 ? info.plausible_max
                                               : 0.0);
   }
+  parameter_uncertainty(*cost, problem.residual_count(), x, summary.final_cost, report);
   report.initial_cost = summary.initial_cost;
   report.final_cost = summary.final_cost;
   report.iterations = static_cast<int>(summary.iterations.size());
@@ -550,16 +599,24 @@ std::string format_identification_report(const IdentificationReport& r,
       r.initial_cost,
       r.final_cost,
       r.termination);
-  out += fmt::format("{:<42} {:>14} {:>14}\n", "parameter", "start", "fitted");
+  out += fmt::format("{:<42} {:>14} {:>14} {:>10}\n", "parameter", "start", "fitted", "1 sigma");
   for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
-    out += fmt::format("{:<42} {:14.6g} {:14.6g}{}\n",
-                       r.free_parameters[i],
-                       r.start_values[i],
-                       r.fitted_values[i],
-                       r.at_bound[i] < 0   ? "  AT PLAUSIBLE MIN"
-                       : r.at_bound[i] > 0 ? "  AT PLAUSIBLE MAX"
-                                           : "");
+    const double rel =
+        i < r.relative_sigma.size() ? r.relative_sigma[i] : std::numeric_limits<double>::infinity();
+    out += fmt::format(
+        "{:<42} {:14.6g} {:14.6g} {:>10}{}\n",
+        r.free_parameters[i],
+        r.start_values[i],
+        r.fitted_values[i],
+        std::isfinite(rel) ? fmt::format("{:.3g} %", 100.0 * rel) : std::string("undetermined"),
+        r.at_bound[i] < 0   ? "  AT PLAUSIBLE MIN"
+        : r.at_bound[i] > 0 ? "  AT PLAUSIBLE MAX"
+                            : "");
   }
+  out += fmt::format(
+      "(1 sigma: from the Jacobian at the fit, scaled by the residuals' spread {:.3g}; "
+      "undetermined: the data do not fix it)\n",
+      r.residual_scale);
   out +=
       fmt::format("\n{:<42} {:>10} {:>10} {:>10}\n", "residual", "target", "fitted", "(f-t)/sigma");
   for (const IdentificationResidual& res : r.residuals) {

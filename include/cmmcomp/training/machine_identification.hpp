@@ -94,7 +94,15 @@ struct IdentificationReport {
   /// A parameter at a bound means the data want a value outside the plausible range: a
   /// mechanism is missing from the model, or a fixed key is wrong.
   std::vector<int> at_bound;
-  std::vector<double> bound_values;         ///< the bound each parameter sits at (0 when none)
+  std::vector<double> bound_values;  ///< the bound each parameter sits at (0 when none)
+  /// Per free parameter: its fitted value's 1σ uncertainty as a fraction of the value, from the
+  /// Jacobian at the fit ((JᵀJ)⁻¹ of the normalised residuals, times residual_scale²); infinite
+  /// when the data do not determine it (a parameter of a near-singular direction), or when the
+  /// Jacobian could not be simulated. Meaningful only if the model can describe the data.
+  std::vector<double> relative_sigma;
+  /// √(max(1, reduced χ²)): how much wider than their σ the residuals spread at the fit (1: as
+  /// the σ say); the uncertainties are scaled by it, never narrowed.
+  double residual_scale = 1.0;
   double initial_cost = 0, final_cost = 0;  ///< ½ Σ normalized²
   int iterations = 0;
   std::string termination;  ///< Ceres' message
