@@ -167,7 +167,7 @@ struct Server::Impl {
     bool stop = false;
     while (!stop) {
       if (fd >= 0 && !closing) run_work();
-      if (fd >= 0 && current && detail::Clock::now() >= deadline) {
+      if (fd >= 0 && current && (session.aborted() || detail::Clock::now() >= deadline)) {
         std::vector<std::string> answers;
         session.finish(std::move(*current), answers);
         current.reset();

@@ -713,6 +713,7 @@ void Session::receive(std::string_view line, std::vector<std::string>& out) {
 }
 bool Session::has_work() const noexcept { return !impl_->queue.empty(); }
 bool Session::running() const noexcept { return impl_->running; }
+bool Session::aborted() const noexcept { return impl_->running && impl_->aborted; }
 Executed Session::start_next() {
   if (impl_->queue.empty()) throw Error("ipp::Session::start_next: nothing waits");
   return impl_->start_next();

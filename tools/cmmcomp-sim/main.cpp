@@ -24,6 +24,7 @@ static int run_tool(int argc, char** argv) {
       sim::add_identify(app),
       sim::add_machine(app),
       sim::add_paper(app),
+      sim::add_serve_ipp(app),
   };
   return cmmcomp::tools::run_commands(app, commands, "cmmcomp-sim", argc, argv);
 }

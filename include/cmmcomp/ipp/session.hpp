@@ -88,6 +88,8 @@ class Session {
   bool has_work() const noexcept;
   /// True between start_next() and finish().
   bool running() const noexcept;
+  /// True when an AbortE came for the running command: finish() it now.
+  bool aborted() const noexcept;
   /// Runs the next waiting command (has_work() must be true).
   Executed start_next();
   /// The running command's time passed: appends its answers, or when an AbortE came meanwhile
