@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmmcomp/dynamics/bridge_model.hpp>
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
@@ -14,7 +15,9 @@
 #include <cmmcomp/ipp/line.hpp>
 #include <cmmcomp/ipp/server.hpp>
 #include <cmmcomp/ipp/session.hpp>
+#include <cmmcomp/motion/move_profile.hpp>
 #include <cmmcomp/vc/ipp_twin_machine.hpp>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -339,4 +342,50 @@ TEST(IppConformance, HostileClientsAreAnsweredOrDroppedAndTheServerServesOn) {
   EXPECT_TRUE(server.logged("client dropped: protocol error"));
   EXPECT_TRUE(server.logged("client dropped: it does not read its answers"));
   EXPECT_TRUE(next_session(server)->call("IsHomed()").ok());
+}
+
+TEST(IppConformance, RealtimeAnswersAGoToAfterItsMachineTime) {
+  TwinServer server(false, 1, true);
+  auto c = server.client();
+  ASSERT_TRUE(c->call("StartSession()").ok());
+  ASSERT_TRUE(c->call("SetProp(Tool.GoToPar.Speed(100), Tool.GoToPar.Accel(500))").ok());
+  cmmcomp::motion::MoveProfile profile;
+  ASSERT_TRUE(cmmcomp::ok(cmmcomp::motion::MoveProfile::plan(
+      cmmcomp::motion::probing_move_mm(100, 500, 20, 12, 60, 10), profile)));
+  const double machine_s = profile.instants().positioning_end;  // 20 mm at 100 mm/s, 500 mm/s^2
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_TRUE(c->call("GoTo(X(20))").ok());
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(took, machine_s - 1e-3);  // never before the move could have ended
+}
+
+TEST(IppTranscript, TheDocumentsTranscriptIsWhatTheServerAnswers) {
+  std::ifstream in(std::string(CMMCOMP_SOURCE_DIR) + "/docs/protocol-ippdme.md");
+  ASSERT_TRUE(in);
+  std::vector<std::string> documented, commands;
+  std::string line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line == "```transcript") {
+      inside = true;
+    } else if (inside && line == "```") {
+      break;
+    } else if (inside) {
+      documented.push_back(line);
+      if (line.rfind("> ", 0) == 0) commands.push_back(line.substr(2));
+    }
+  }
+  ASSERT_FALSE(commands.empty()) << "no ```transcript block in docs/protocol-ippdme.md";
+  TwinServer server;
+  auto c = server.client();
+  std::vector<std::string> answered;
+  for (const std::string& command : commands) {
+    c->send_raw(command + "\r\n");
+    answered.push_back("> " + command);
+    for (const std::string& a : c->wait(command.substr(0, 5)).lines) answered.push_back("< " + a);
+  }
+  std::string block;
+  for (const std::string& l : answered) block += l + "\n";
+  EXPECT_EQ(documented, answered) << "the server (default machine) answers:\n" << block;
 }
