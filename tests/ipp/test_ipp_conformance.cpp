@@ -16,7 +16,10 @@
 #include <cmmcomp/ipp/server.hpp>
 #include <cmmcomp/ipp/session.hpp>
 #include <cmmcomp/motion/move_profile.hpp>
+#include <cmmcomp/vc/ipp_probe.hpp>
 #include <cmmcomp/vc/ipp_twin_machine.hpp>
+#include <cmmcomp/vc/length_test.hpp>
+#include <cmmcomp/vc/twin_probe.hpp>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -388,4 +391,34 @@ TEST(IppTranscript, TheDocumentsTranscriptIsWhatTheServerAnswers) {
   std::string block;
   for (const std::string& l : answered) block += l + "\n";
   EXPECT_EQ(documented, answered) << "the server (default machine) answers:\n" << block;
+}
+
+TEST(IppProbe, TheLengthTestOverIppHasTheTwinsTouchesAndVerdicts) {
+  TwinServer server;  // no noise: the server's touches are the twin's
+  cmmcomp::vc::IppProbe remote("127.0.0.1", server.port(), 0.0);
+  dynamics::MeasurementNoise off;
+  cmmcomp::vc::TwinProbe local(dynamics::default_machine(), off);
+  for (const cmmcomp::vc::ProbeSetting& s :
+       {cmmcomp::vc::default_fast_setting(), cmmcomp::vc::default_slow_setting()}) {
+    for (double y : {0.0, 250.0, 500.0}) {
+      const double want = local.rae_um(s, y, 0);
+      EXPECT_NEAR(remote.rae_um(s, y, 0), want, 2e-3) << s.name << " at Y " << y;
+    }
+  }
+  cmmcomp::vc::LengthProgram program;
+  program.lengths_mm = {20, 200};
+  program.repeats = 2;
+  const cmmcomp::vc::LengthTestResult over_ipp = run_length_test(program, remote, {});
+  const cmmcomp::vc::LengthTestResult in_process = run_length_test(program, local, {});
+  ASSERT_EQ(over_ipp.per_y.size(), in_process.per_y.size());
+  for (std::size_t i = 0; i < over_ipp.per_y.size(); ++i) {
+    EXPECT_EQ(over_ipp.per_y[i].slow_pass, in_process.per_y[i].slow_pass);
+    EXPECT_EQ(over_ipp.per_y[i].fast_uncompensated_pass,
+              in_process.per_y[i].fast_uncompensated_pass);
+    EXPECT_NEAR(over_ipp.per_y[i].fast_uncompensated_max_um,
+                in_process.per_y[i].fast_uncompensated_max_um,
+                5e-3);
+  }
+  // The fast setting's uncompensated error is there to see (this is not a test of zeros).
+  EXPECT_GT(std::fabs(in_process.per_y[0].fast_uncompensated_max_um), 1.0);
 }

@@ -31,6 +31,7 @@ struct Options {
   std::uint64_t seed = 1;
   bool no_noise = false;
   std::string machine;
+  std::string ipp;
   std::string csv;
   bool json = false;
   std::string plot;

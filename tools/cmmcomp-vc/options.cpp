@@ -32,6 +32,12 @@ Command add_options(CLI::App& app) {
       ->capture_default_str();
   app.add_flag("--no-noise", opt->no_noise, "the twin without measurement noise");
   app.add_option("--machine", opt->machine, "machine file (default: the embedded machine)");
+  app.add_option("--ipp",
+                 opt->ipp,
+                 "take the touches from this I++ DME server, HOST:PORT (e.g. cmmcomp-sim "
+                 "serve-ipp) instead of the twin in this process; its noise is the server's, "
+                 "--machine gives the dwell and smoothing counted per point "
+                 "(docs/protocol-ippdme.md)");
   app.add_option("--csv", opt->csv, "log every point to this CSV");
   app.add_flag("--json", opt->json, "print the report as JSON");
   app.add_option("--plot", opt->plot, "write length-error PNGs (one per Y) into this directory");

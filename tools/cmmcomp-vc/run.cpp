@@ -7,6 +7,7 @@
 #include <cmmcomp/dynamics/machine.hpp>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/vc/correction_source.hpp>
+#include <cmmcomp/vc/ipp_probe.hpp>
 #include <cmmcomp/vc/length_test.hpp>
 #include <cmmcomp/vc/per_y_source.hpp>
 #include <cmmcomp/vc/twin_probe.hpp>
@@ -52,7 +53,26 @@ int run(const Options& opt) {
   for (const std::string& w : cmmcomp::dynamics::implausible_parameters(machine.parameters)) {
     std::fprintf(stderr, "warning: %s: %s\n", opt.machine.c_str(), w.c_str());
   }
-  TwinProbe twin(machine, noise);
+  // The touches: the twin in this process, or the machine behind an I++ DME server.
+  std::unique_ptr<TouchErrorModel> touches;
+  if (opt.ipp.empty()) {
+    touches = std::make_unique<TwinProbe>(machine, noise);
+  } else {
+    const std::size_t colon = opt.ipp.rfind(':');
+    const std::string port_text = colon == std::string::npos ? "" : opt.ipp.substr(colon + 1);
+    if (colon == std::string::npos || colon == 0 || port_text.empty() || port_text.size() > 5 ||
+        port_text.find_first_not_of("0123456789") != std::string::npos ||
+        std::stol(port_text) > 65535) {
+      throw cmmcomp::ConfigError("--ipp: '" + opt.ipp + "' is not HOST:PORT");
+    }
+    try {
+      touches = std::make_unique<IppProbe>(opt.ipp.substr(0, colon),
+                                           static_cast<std::uint16_t>(std::stol(port_text)));
+    } catch (const cmmcomp::Error& e) {
+      throw UnreachableError(e.what());
+    }
+  }
+  TouchErrorModel& twin = *touches;
   // The twin's controller dwells and smooths every move: that time counts per point.
   program.dwell_s = machine.parameters.controller_dwell_s;
   program.smoothing_s = machine.parameters.controller_smoothing_s;

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+/// @file The virtual controller's touches from a machine behind an I++ DME server (the twin's
+/// `cmmcomp-sim serve-ipp`, or any I++ server), through the project's client
+/// (docs/protocol-ippdme.md).
+///
+/// Each touch is the block measure's plan.ipp writes for one point: SetProp of GoToPar, a GoTo to
+/// the start PD + AD out along +X, a GoTo to the pre-hit point AD out, SetProp of PtMeasPar, and
+/// `PtMeas(X(x0), Y(y), Z(0), IJK(1, 0, 0))`: the approach runs along −X, and the server's
+/// reported X is x0 + RAE (the project's sign, docs/compensator.md), so RAE = (X − x0) · 1000 µm,
+/// to the 1e-3 µm the I++ numbers carry. The server draws its own noise (its n-th point): the
+/// `index` a caller passes selects nothing here. Setup-level code: throws cmmcomp::Error naming
+/// the server and the command when a transaction fails or times out.
+#pragma once
+
+#include <cmmcomp/ipp/client.hpp>
+#include <cmmcomp/vc/twin_probe.hpp>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace cmmcomp::vc {
+
+class IppProbe final : public TouchErrorModel {
+ public:
+  /// Connects and starts a session (Error when it cannot); `x0_mm` is the probed face's X.
+  IppProbe(const std::string& host,
+           std::uint16_t port,
+           double x0_mm = 0.0,
+           double timeout_s = 30.0);
+  /// Ends the session (errors ignored).
+  ~IppProbe() override;
+  double rae_um(const ProbeSetting& s, double y_mm, std::uint64_t index) override;
+
+ private:
+  /// Runs `command`; throws Error with the server's error when it is not ok.
+  ipp::Transaction run(const std::string& command);
+  std::unique_ptr<ipp::Client> client_;
+  std::string where_;
+  double x0_mm_ = 0;
+  double timeout_s_ = 30;
+};
+
+}  // namespace cmmcomp::vc
