@@ -69,6 +69,8 @@ struct Server::Impl {
   }
 
   void queue_lines(std::vector<std::string>& lines) {
+    // The send timeout counts from when answers start to wait, not from the last send.
+    if (out.empty() && !lines.empty()) last_sent = detail::Clock::now();
     for (const std::string& l : lines) {
       out += l;
       out += "\r\n";

@@ -38,13 +38,14 @@ class TwinServer {
   explicit TwinServer(bool noise = false,
                       std::uint64_t seed = 1,
                       bool realtime = false,
-                      std::size_t max_output = 1u << 20)
+                      std::size_t max_output = 1u << 20,
+                      double send_timeout_s = 2.0)
       : machine_(dynamics::default_machine(), noise_of(noise, seed)), session_(machine_) {
     ipp::ServerOptions o;
     o.port = 0;
     o.realtime = realtime;
     o.max_output_bytes = max_output;
-    o.send_timeout_s = 2.0;
+    o.send_timeout_s = send_timeout_s;
     o.log = [this](const std::string& line) {
       const std::lock_guard<std::mutex> lock(log_mutex_);
       log_.push_back(line);
@@ -348,7 +349,9 @@ TEST(IppConformance, HostileClientsAreAnsweredOrDroppedAndTheServerServesOn) {
 }
 
 TEST(IppConformance, RealtimeAnswersAGoToAfterItsMachineTime) {
-  TwinServer server(false, 1, true);
+  // A send timeout shorter than the move: it counts from when the answers wait, so a client that
+  // reads is not dropped however long the server was silent before.
+  TwinServer server(false, 1, true, 1u << 20, 0.1);
   auto c = server.client();
   ASSERT_TRUE(c->call("StartSession()").ok());
   ASSERT_TRUE(c->call("SetProp(Tool.GoToPar.Speed(100), Tool.GoToPar.Accel(500))").ok());
@@ -361,6 +364,9 @@ TEST(IppConformance, RealtimeAnswersAGoToAfterItsMachineTime) {
   const double took =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_GE(took, machine_s - 1e-3);  // never before the move could have ended
+  EXPECT_GT(machine_s, 0.1);
+  EXPECT_TRUE(c->call("IsHomed()").ok());
+  EXPECT_FALSE(server.logged("client dropped: nothing could be sent to it for the send timeout"));
 }
 
 TEST(IppTranscript, TheDocumentsTranscriptIsWhatTheServerAnswers) {
