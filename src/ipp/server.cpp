@@ -127,6 +127,9 @@ struct Server::Impl {
       start = static_cast<std::size_t>(i) + 1;
       session.receive(in, answers);
       in.clear();
+      // Each line runs before the next is read, as if it had come alone: a burst of commands
+      // fills the queue only while a real-time move runs.
+      if (!closing) run_work(answers);
     }
     in.append(buffer + start, static_cast<std::size_t>(n) - start);
     if (in.size() > kMaxLineBytes + 1) {
@@ -150,9 +153,8 @@ struct Server::Impl {
     }
   }
 
-  /// Starts what waits; without realtime, finishes it at once.
-  void run_work() {
-    std::vector<std::string> answers;
+  /// Starts what waits (its answers to `answers`); without realtime, finishes it at once.
+  void run_work(std::vector<std::string>& answers) {
     while (fd >= 0 && !current && session.has_work()) {
       Executed e = session.start_next();
       if (options.realtime && e.seconds > 0) {
@@ -162,6 +164,10 @@ struct Server::Impl {
         session.finish(std::move(e), answers);
       }
     }
+  }
+  void run_work() {
+    std::vector<std::string> answers;
+    run_work(answers);
     queue_lines(answers);
   }
 

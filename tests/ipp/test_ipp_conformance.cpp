@@ -428,3 +428,33 @@ TEST(IppProbe, TheLengthTestOverIppHasTheTwinsTouchesAndVerdicts) {
   // The fast setting's uncompensated error is there to see (this is not a test of zeros).
   EXPECT_GT(std::fabs(in_process.per_y[0].fast_uncompensated_max_um), 1.0);
 }
+
+TEST(IppConformance, ABurstOfCommandsRunsInOrderAndOnlyAMovingServerFillsItsQueue) {
+  {
+    TwinServer server;
+    auto c = server.client();
+    std::string burst = "00001 StartSession()\r\n";
+    for (int i = 2; i <= 200; ++i) {
+      burst += ipp::make_tag(ipp::Tag::Queue::kNormal, i).view();
+      burst += " GoTo(X(" + std::to_string(i) + "))\r\n";
+    }
+    c->send_raw(burst);  // one write: the server reads many lines at once
+    for (int i = 1; i <= 200; ++i) {
+      EXPECT_TRUE(c->wait(std::string(ipp::make_tag(ipp::Tag::Queue::kNormal, i).view())).ok());
+    }
+    EXPECT_EQ(c->call("Get(X())").data, std::vector<std::string>{"X(200)"});
+  }
+  TwinServer server(false, 1, true);
+  auto c = server.client();
+  ASSERT_TRUE(c->call("StartSession()").ok());
+  ASSERT_TRUE(c->call("SetProp(Tool.GoToPar.Speed(1), Tool.GoToPar.Accel(10))").ok());
+  const std::string slow = c->send("GoTo(X(500))");  // 500 s: everything after it waits
+  std::vector<std::string> tags;
+  for (int i = 0; i < 70; ++i) tags.push_back(c->send("IsHomed()"));
+  EXPECT_TRUE(c->call("AbortE()").ok());
+  for (std::size_t i = 0; i < tags.size(); ++i) {
+    // 64 wait (then AbortE ends them: 0006); the 65th and later find the queue full (0000).
+    EXPECT_EQ(error_of(c->wait(tags[i])), i < 64 ? 6 : 0) << i;
+  }
+  EXPECT_EQ(error_of(c->wait(slow)), 6);
+}
