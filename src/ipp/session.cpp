@@ -16,6 +16,7 @@ const char* const kSupportedCommands[] = {
     "EnableUser",    "DisableUser", "IsUserEnabled",  "GetProp",        "GetPropE",
     "SetProp",       "GoTo",        "PtMeas",         "OnPtMeasReport", "Get",
     "GetErrStatusE", "AbortE",      "StopDaemon",     "StopAllDaemons", "GetSupportedCommands",
+    "SetTool",       "ChangeTool",
 };
 const int kSupportedCommandCount =
     static_cast<int>(sizeof(kSupportedCommands) / sizeof(kSupportedCommands[0]));
@@ -27,7 +28,6 @@ constexpr const char* kKnownUnsupported[] = {
     "AlignPart",
     "AlignTool",
     "CenterPart",
-    "ChangeTool",
     "EnumAllProp",
     "EnumProp",
     "EnumTools",
@@ -54,7 +54,6 @@ constexpr const char* kKnownUnsupported[] = {
     "ScanUnknownHint",
     "SetCoordSystem",
     "SetCsyTransformation",
-    "SetTool",
     "TiltCenterPart",
     "TiltPart",
     "GetPosE",
@@ -83,6 +82,8 @@ enum class Kind {
   kStopDaemon,
   kStopAllDaemons,
   kGetSupportedCommands,
+  kSetTool,
+  kChangeTool,
 };
 
 bool is_fast(Kind k) {
@@ -409,7 +410,18 @@ struct Session::Impl {
         return true;
       }
       case Kind::kOnPtMeasReport:
-        return empty_calls(args, {"X", "Y", "Z", "IJK"}, c.report, why);
+        return empty_calls(args, {"X", "Y", "Z", "IJK", "R"}, c.report, why);
+      case Kind::kSetTool:
+      case Kind::kChangeTool:
+        if (n != 1) {
+          why = {ErrorCode::kIncorrectArguments, "takes one tool name"};
+          return false;
+        }
+        if (args[args.first()].kind != Item::Kind::kString) {
+          why = {ErrorCode::kBadArgument, "the tool name is a string"};
+          return false;
+        }
+        return true;
       case Kind::kGet:
         return empty_calls(args, {"X", "Y", "Z"}, c.report, why);
       case Kind::kStopDaemon: {
@@ -592,6 +604,8 @@ struct Session::Impl {
       case Kind::kStartSession:
       case Kind::kEndSession:
       case Kind::kStopAllDaemons:
+      case Kind::kSetTool:     // one probe: every tool name is it
+      case Kind::kChangeTool:  // and changing to it takes no time
         break;
       case Kind::kClearAllErrors:
         error = false;
@@ -651,6 +665,7 @@ struct Session::Impl {
           if (item == "X") data += number_item("X", reported.x);
           if (item == "Y") data += number_item("Y", reported.y);
           if (item == "Z") data += number_item("Z", reported.z);
+          if (item == "R") data += "R(0)";  // the twin's probe is a point
           if (item == "IJK") {
             data += "IJK(" + io::format_ipp_number(n.x) + ", " + io::format_ipp_number(n.y) + ", " +
                     io::format_ipp_number(n.z) + ")";

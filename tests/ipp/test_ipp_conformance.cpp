@@ -458,3 +458,61 @@ TEST(IppConformance, ABurstOfCommandsRunsInOrderAndOnlyAMovingServerFillsItsQueu
   }
   EXPECT_EQ(error_of(c->wait(slow)), 6);
 }
+
+TEST(IppConformance, ANistStylePointProbingProgramRunsThrough) {
+  // The commands and number forms of NIST's point-probing test programs: Home, a tool, the
+  // PtMeasPar and GoToPar properties set and read back, R() in the report, signed zeros in IJK,
+  // and four points on the faces of a block, the PtMeas positioning itself between them.
+  TwinServer server;
+  auto c = server.client();
+  const std::vector<std::string> setup = {
+      "StartSession()",
+      "Home()",
+      "SetTool(\"Probe1\")",
+      "GoTo(X(60), Y(60), Z(150))",
+      "ChangeTool(\"Probe1\")",
+      "SetProp(Tool.PtMeasPar.Approach(8))",
+      "SetProp(Tool.PtMeasPar.Search(8))",
+      "SetProp(Tool.PtMeasPar.Retract(8))",
+      "SetProp(Tool.GoToPar.Speed(25))",
+      "OnPtMeasReport(X(), Y(), Z(), R())",
+      "GoTo(X(60), Y(60), Z(80))",
+      "GoTo(X(60), Y(60), Z(30))",
+  };
+  for (const std::string& command : setup) EXPECT_TRUE(c->call(command).ok()) << command;
+  EXPECT_EQ(c->call("IsHomed()").data, std::vector<std::string>{"IsHomed(1)"});
+  EXPECT_EQ(c->call("GetProp(Tool.PtMeasPar.Approach())").data,
+            std::vector<std::string>{"Tool.PtMeasPar.Approach(8)"});
+  struct Face {
+    const char* command;
+    int axis;  ///< the coordinate the twin's error moves: 0 = X, 1 = Y
+    double nominal;
+  };
+  const Face faces[] = {{"PtMeas(X(85.0), Y(60.0), Z(30.0), IJK(-1.0, 0.0, 0.0))", 0, 85.0},
+                        {"PtMeas(X(35.0), Y(60.0), Z(30.0), IJK(+1.0, 0.0, 0.0))", 0, 35.0},
+                        {"PtMeas(X(60.0), Y(85.0), Z(30.0), IJK(+0.0,-1.0, 0.0))", 1, 85.0},
+                        {"PtMeas(X(60.0), Y(35.0), Z(30.0), IJK(-0.0,+1.0, 0.0))", 1, 35.0}};
+  for (const Face& f : faces) {
+    const ipp::Transaction t = c->call(f.command);
+    ASSERT_TRUE(t.ok()) << f.command << ": " << t.lines.back();
+    ASSERT_EQ(t.data.size(), 1u);
+    ipp::ItemList items;
+    ASSERT_EQ(items.parse(t.data[0]), ipp::ParseStatus::kOk);
+    double v[4];
+    int k = 0;
+    for (int i = items.first(); i >= 0 && k < 4; i = items[i].next_sibling) {
+      v[k++] = items[items[i].first_child].number;
+    }
+    ASSERT_EQ(k, 4) << t.data[0];
+    EXPECT_EQ(v[3], 0.0);  // R(0)
+    // The probed coordinate carries the twin's error (a few um, never zero on this machine);
+    // the others are the nominal's.
+    const double error_um = (v[f.axis] - f.nominal) * 1e3;
+    EXPECT_GT(std::fabs(error_um), 0.5) << t.data[0];
+    EXPECT_LT(std::fabs(error_um), 50.0) << t.data[0];
+    EXPECT_EQ(v[1 - f.axis], 60.0);
+    EXPECT_EQ(v[2], 30.0);
+  }
+  EXPECT_TRUE(c->call("GoTo(X(60), Y(60), Z(100))").ok());
+  EXPECT_TRUE(c->call("EndSession()").ok());
+}

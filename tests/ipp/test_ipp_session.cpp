@@ -120,6 +120,11 @@ TEST(IppSession, ASessionOfTheSubsetAnswersAsTheSpecificationSays) {
   const Lines supported = h.run("00019 GetSupportedCommands()");
   EXPECT_EQ(supported.size(), static_cast<std::size_t>(ipp::kSupportedCommandCount) + 2);
   EXPECT_EQ(supported[1], "00019 # StartSession");
+  EXPECT_EQ(h.run("00022 SetTool(\"Probe1\")"), (Lines{"00022 &", "00022 %"}));
+  EXPECT_EQ(h.run("00023 ChangeTool(\"Probe1\")"), (Lines{"00023 &", "00023 %"}));
+  EXPECT_EQ(h.run("00024 OnPtMeasReport(X(), R())"), (Lines{"00024 &", "00024 %"}));
+  EXPECT_EQ(h.run("00025 PtMeas(X(10), Y(100), Z(5), IJK(1, 0, 0))")[1],
+            "00025 # X(10.0025), R(0)");
   EXPECT_EQ(h.run("00020 ClearAllErrors()"), (Lines{"00020 &", "00020 %"}));
   EXPECT_EQ(h.run("00021 EndSession()"), (Lines{"00021 &", "00021 %"}));
   EXPECT_FALSE(h.session.started());
@@ -150,7 +155,9 @@ TEST(IppSession, RefusedCommandsGetOneErrorLineAndChangeNothing) {
       {"00016 GoTo(Y(-5))", 1008},
       {"00017 PtMeas(X(1), Y(2), Z(3))", 502},
       {"00018 PtMeas(X(1), Y(2), Z(3), IJK(0, 0, 0))", 1010},
-      {"00019 OnPtMeasReport(R())", 506},
+      {"00019 OnPtMeasReport(ER())", 506},
+      {"00027 SetTool(3)", 509},
+      {"00028 ChangeTool(\"a\", \"b\")", 502},
       {"00020 StopDaemon(00012)", 502},
       {"00021 GetErrStatusE()", 1},
       {"E0022 GoTo(X(1))", 1},
