@@ -282,6 +282,108 @@ std::string render_qualified_sweep(const Document& doc) {
   return out;
 }
 
+/// One cycle choice of the whole-cycle comparison.
+Document cycle_choice(const CycleChoice& c) {
+  if (!c.found) return Document{{"found", false}, {"judged", c.judged}};
+  const motion::ProbingMove& m = c.cycle;
+  return Document{{"found", true},
+                  {"time_s", c.time_s},
+                  {"pv_mm_s", m.positioning_speed * 1e3},
+                  {"pa_mm_s2", m.positioning_accel * 1e3},
+                  {"av_mm_s", m.approach_speed * 1e3},
+                  {"aa_mm_s2", m.approach_accel * 1e3},
+                  {"ad_mm", m.approach_distance * 1e3},
+                  {"dwell_s", m.dwell},
+                  {"smoothing_s", m.smoothing},
+                  {"residual_um", c.check.residual_um},
+                  {"mae_um", c.check.mae_um},
+                  {"binding", c.check.binding},
+                  {"judged", c.judged}};
+}
+
+std::string render_cycle_choice(const Document& c) {
+  if (!field(c, "found").get<bool>()) return "none on the grid";
+  return fmt::format(
+      "PV {:g}, PA {:g}, AV {:g}, AA {:g}, AD {:g}, dwell {:g} s, T {:.4g} s: {} s (residual {} "
+      "um, MAE {} um; nearest its limit: {})",
+      field(c, "pv_mm_s").get<double>(),
+      field(c, "pa_mm_s2").get<double>(),
+      field(c, "av_mm_s").get<double>(),
+      field(c, "aa_mm_s2").get<double>(),
+      field(c, "ad_mm").get<double>(),
+      field(c, "dwell_s").get<double>(),
+      field(c, "smoothing_s").get<double>(),
+      num(field(c, "time_s"), 3),
+      num(field(c, "residual_um"), 2),
+      num(field(c, "mae_um"), 1),
+      field(c, "binding").get<std::string>());
+}
+
+std::string render_cycle_speedup(const Document& doc) {
+  const Document& r = field(doc, "rules");
+  std::string out = fmt::format(
+      "Budget {} um per point at 95 % (half of MPE_E at 20 mm), {} um of it for what a touch "
+      "leaves (the rest: the repeatability at 95 %); |MAE| <= {} um and a constant-speed touch "
+      "at every Y of {} mm; the uncompensated machine qualified at Y {} mm, robust over 8 "
+      "variants of it. Time per point: from the start of the positioning to the touch, dwell "
+      "and smoothing included. Today's qualified reference: {} s.\n\n",
+      num(field(r, "budget_um"), 3),
+      num(field(r, "allowance_um"), 3),
+      field(r, "mae_limit_um").get<double>(),
+      field(r, "y_mm").dump(),
+      field(r, "sphere_y_mm").get<double>(),
+      num(field(doc, "todays_reference_s"), 3));
+  out +=
+      "| machine | PD mm | qualified uncompensated, same freedom | oracle (a perfect model) | "
+      "identified model | qualified / identified | reference / identified |\n"
+      "| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const Document& row : field(doc, "rows")) {
+    const Document& q = field(row, "qualified");
+    const Document& o = field(row, "oracle");
+    const bool has_i = row.contains("identified");
+    const bool both = has_i && field(q, "found").get<bool>() &&
+                      field(field(row, "identified"), "found").get<bool>();
+    out += fmt::format("| {} | {:g} | {} | {} | {} | {} | {} |\n",
+                       field(row, "machine").get<std::string>(),
+                       field(row, "pd_mm").get<double>(),
+                       render_cycle_choice(q),
+                       render_cycle_choice(o),
+                       has_i ? render_cycle_choice(field(row, "identified")) : std::string("–"),
+                       both ? num(Document(field(q, "time_s").get<double>() /
+                                           field(field(row, "identified"), "time_s").get<double>()),
+                                  2) +
+                                  "x"
+                            : std::string("–"),
+                       has_i && field(field(row, "identified"), "found").get<bool>()
+                           ? num(Document(field(doc, "todays_reference_s").get<double>() /
+                                          field(field(row, "identified"), "time_s").get<double>()),
+                                 2) +
+                                 "x"
+                           : std::string("–"));
+  }
+  for (const Document& m : field(doc, "identified")) {
+    out += fmt::format("\nIdentified from its campaign: {} (cost {}).\n\n",
+                       field(m, "machine").get<std::string>(),
+                       num(field(m, "final_cost"), 4));
+    out +=
+        "| parameter | truth | fitted | fitted / truth − 1 | 1 sigma |\n"
+        "| --- | --- | --- | --- | --- |\n";
+    for (const Document& p : field(m, "parameters")) {
+      const double truth = field(p, "truth").get<double>();
+      const double fitted = field(p, "fitted").get<double>();
+      const Document& sigma = field(p, "relative_sigma");
+      out += fmt::format("| {} | {:.6g} | {:.6g} | {:+.2f} % | {} |\n",
+                         field(p, "key").get<std::string>(),
+                         truth,
+                         fitted,
+                         100.0 * (fitted / truth - 1.0),
+                         sigma.is_null() ? std::string("undetermined")
+                                         : fmt::format("{:.2f} %", 100.0 * sigma.get<double>()));
+    }
+  }
+  return out;
+}
+
 std::string render_verdict(const Document& doc) {
   if (!doc.contains("targets")) return "";
   const Document& targets = field(doc, "targets");
@@ -400,6 +502,43 @@ Document qualified_sweep_document(const SweepResult& result) {
   return doc;
 }
 
+Document cycle_speedup_document(const CycleSpeedupResult& result) {
+  Document doc;
+  doc["experiment"] = "cycle-speedup";
+  const CycleRules& r = result.rules;
+  doc["rules"] = Document{{"budget_um", r.budget_um},
+                          {"allowance_um", r.allowance_um()},
+                          {"sigma_um", r.sigma_um},
+                          {"k95", r.k95},
+                          {"scatter_share", r.scatter_share},
+                          {"mae_limit_um", r.mae_limit_um},
+                          {"y_mm", r.y_mm},
+                          {"sphere_y_mm", r.sphere_y_mm}};
+  doc["todays_reference_s"] = todays_qualified_reference_s();
+  doc["identified"] = Document::array();
+  for (const IdentifiedModel& m : result.identified) {
+    Document d{{"machine", m.machine.name}, {"final_cost", m.final_cost}};
+    d["parameters"] = Document::array();
+    for (std::size_t i = 0; i < m.parameters.size(); ++i) {
+      d["parameters"].push_back(Document{{"key", m.parameters[i]},
+                                         {"truth", m.truth_values[i]},
+                                         {"fitted", m.fitted_values[i]},
+                                         {"relative_sigma", number_or_null(m.relative_sigma[i])}});
+    }
+    doc["identified"].push_back(d);
+  }
+  doc["rows"] = Document::array();
+  for (const CycleSpeedupRow& row : result.rows) {
+    Document d{{"machine", row.machine},
+               {"pd_mm", row.pd_mm},
+               {"qualified", cycle_choice(row.qualified)},
+               {"oracle", cycle_choice(row.oracle)}};
+    if (row.has_identified) d["identified"] = cycle_choice(row.identified);
+    doc["rows"].push_back(d);
+  }
+  return doc;
+}
+
 Document calibration_document(const CalibrationResult& result) {
   Document doc;
   doc["experiment"] = "calibration";
@@ -509,6 +648,8 @@ std::string render_markdown(const Document& doc) {
     out += render_cross_machine(doc);
   } else if (experiment == "qualified-sweep") {
     out += render_qualified_sweep(doc);
+  } else if (experiment == "cycle-speedup") {
+    out += render_cycle_speedup(doc);
   } else {
     throw ConfigError(fmt::format("study document: unknown experiment \"{}\"", experiment));
   }

@@ -26,6 +26,8 @@ Command add_identify_multistart(CLI::App& app, const std::string& command);
 // workflow_commands.cpp
 Command add_cross_machine(CLI::App& app, const std::string& command);
 Command add_qualified_sweep(CLI::App& app, const std::string& command);
+// cycle_command.cpp
+Command add_cycle_speedup(CLI::App& app, const std::string& command);
 // render_command.cpp
 Command add_render(CLI::App& app, const std::string& command);
 

@@ -31,6 +31,7 @@ static int run_tool(int argc, char** argv) {
       study::add_identify_multistart(app, command),
       study::add_cross_machine(app, command),
       study::add_qualified_sweep(app, command),
+      study::add_cycle_speedup(app, command),
       study::add_render(app, command),
   };
   return cmmcomp::tools::run_commands(

@@ -19,6 +19,7 @@
 #include <cmmcomp/study/accuracy.hpp>
 #include <cmmcomp/study/calibration.hpp>
 #include <cmmcomp/study/cross_machine.hpp>
+#include <cmmcomp/study/cycle_speedup.hpp>
 #include <cmmcomp/study/identify_multistart.hpp>
 #include <cmmcomp/study/interval_calibration.hpp>
 #include <cmmcomp/study/interval_coverage.hpp>
@@ -41,6 +42,7 @@ Document cross_machine_document(const CrossMachineResult& result);
 Document calibration_document(const CalibrationResult& result);
 Document identify_multistart_document(const MultistartResult& result);
 Document interval_calibration_document(const IntervalCalibrationResult& result);
+Document cycle_speedup_document(const CycleSpeedupResult& result);
 
 /// Adds the targets and check()'s verdict to `doc`.
 void add_verdict(Document& doc, const std::vector<Target>& targets, const Verdict& verdict);
