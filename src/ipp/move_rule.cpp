@@ -33,6 +33,11 @@ void ProbingMoveTracker::position_is(const Point3& p) noexcept {
   last_is_goto_ = false;
 }
 
+void ProbingMoveTracker::position_unknown() noexcept {
+  known_ = false;
+  last_is_goto_ = false;
+}
+
 bool ProbingMoveTracker::position(Point3& out) const noexcept {
   if (known_) out = position_;
   return known_;

@@ -136,6 +136,11 @@ TEST(IppMoveRule, SaysWhatItCannotKnow) {
   ASSERT_TRUE(m.ok);
   EXPECT_DOUBLE_EQ(m.pd_mm, 4.0);
   EXPECT_FALSE(t.probing_move({0, 0, 0}, {0, 0, 0}).ok);  // IJK of no length
+  t.position_unknown();  // a Home on a server the proxy does not see into
+  EXPECT_FALSE(t.probing_move({0, 0, 0}, {1, 0, 0}).ok);
+  t.moved_to({9, 0, 0});  // a GoTo from an unknown position: its length is unknown too
+  t.moved_to({5, 0, 0});
+  ASSERT_TRUE(t.probing_move({0, 0, 0}, {1, 0, 0}).ok);
   // An oblique normal: the pre-hit point lies along it.
   t.position_is({0, 0, 0});
   m = t.probing_move({0, 0, 0}, {3, 0, 4});

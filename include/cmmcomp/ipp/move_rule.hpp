@@ -116,6 +116,9 @@ class ProbingMoveTracker {
   void moved_to(const Point3& target) noexcept;
   /// The position is known without a motion (a Get answer, a Home): no GoTo is the last motion.
   void position_is(const Point3& p) noexcept;
+  /// The position is no longer known (a proxy after a Home or an aborted move of a server it
+  /// does not see into): the next PtMeas cannot be rebuilt until a GoTo or a Get.
+  void position_unknown() noexcept;
   /// The current position, when known.
   bool position(Point3& out) const noexcept;
 
