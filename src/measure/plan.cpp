@@ -8,6 +8,8 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/file_io.hpp>
 #include <cmmcomp/io/ipp_number.hpp>
+#include <cmmcomp/ipp/line.hpp>
+#include <cmmcomp/ipp/move_rule.hpp>
 #include <cmmcomp/measure/plan.hpp>
 #include <cstdlib>
 #include <map>
@@ -275,49 +277,29 @@ std::string format_ipp_program(const std::vector<PlannedMove>& moves, const Plan
 
 namespace {
 
-/// The numbers inside "NAME(a, b, c)" starting at `text[pos]` == 'N'; advances pos past ')'.
-std::vector<double> arguments(const std::string& text, std::size_t& pos, const std::string& where) {
-  const std::size_t open = text.find('(', pos);
-  const std::size_t close = text.find(')', open);
-  if (open == std::string::npos || close == std::string::npos) {
-    throw ConfigError(where + ": unbalanced parentheses");
-  }
-  std::vector<double> out;
-  std::string inner = text.substr(open + 1, close - open - 1);
-  if (!detail::trim_cell(inner).empty()) {
-    for (const std::string& cell : detail::split_cells(inner)) {
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v)) {
-        throw ConfigError(where + ": '" + cell + "' is not a number");
-      }
-      out.push_back(v);
-    }
-  }
-  pos = close + 1;
-  return out;
-}
-
-/// "X(1), Y(2), Z(3)[, IJK(i, j, k)]" → the point (and the direction).
-Vec3 xyz(const std::string& args, const std::string& where, Vec3* ijk) {
+/// "X(1), Y(2), Z(3)[, IJK(i, j, k)]" of a parsed GoTo or PtMeas → the point (and the direction).
+Vec3 xyz(const ipp::ItemList& args, const std::string& where, Vec3* ijk) {
   Vec3 p;
   bool seen[3] = {false, false, false};
-  std::size_t pos = 0;
-  while (pos < args.size()) {
-    const std::size_t name = args.find_first_not_of(" ,", pos);
-    if (name == std::string::npos) break;
-    const std::size_t open = args.find('(', name);
-    if (open == std::string::npos)
-      throw ConfigError(where + ": '" + args + "' is not X(), Y(), Z()");
-    const std::string key = detail::trim_cell(args.substr(name, open - name));
-    pos = name;
-    const std::vector<double> v = arguments(args, pos, where);
-    if (key == "IJK" && ijk != nullptr && v.size() == 3) {
+  for (int i = args.first(); i >= 0; i = args[i].next_sibling) {
+    const ipp::Item& it = args[i];
+    const std::string key(it.text);
+    double v[3];
+    int n = 0;
+    for (int k = it.first_child; k >= 0 && n <= 3; k = args[k].next_sibling, ++n) {
+      if (args[k].kind != ipp::Item::Kind::kNumber) {
+        throw ConfigError(where + ": '" + std::string(args[k].text) + "' is not a number");
+      }
+      if (n < 3) v[n] = args[k].number;
+    }
+    if (it.kind != ipp::Item::Kind::kCall) {
+      throw ConfigError(where + ": '" + key + "' is not X(), Y(), Z()");
+    } else if (key == "IJK" && ijk != nullptr && n == 3) {
       *ijk = {v[0], v[1], v[2]};
-    } else if ((key == "X" || key == "Y" || key == "Z") && v.size() == 1) {
-      const int i = key[0] - 'X';
-      seen[i] = true;
-      (i == 0 ? p.x : i == 1 ? p.y : p.z) = v[0];
+    } else if ((key == "X" || key == "Y" || key == "Z") && n == 1) {
+      const int axis = key[0] - 'X';
+      seen[axis] = true;
+      (axis == 0 ? p.x : axis == 1 ? p.y : p.z) = v[0];
     } else {
       throw ConfigError(where + ": unexpected '" + key + "'");
     }
@@ -326,8 +308,30 @@ Vec3 xyz(const std::string& args, const std::string& where, Vec3* ijk) {
   return p;
 }
 
+/// The IppPoint field a SetProp property sets.
+double* field_of(IppPoint& point, ipp::Property p) {
+  switch (p) {
+    case ipp::Property::kGoToSpeed:
+      return &point.goto_speed;
+    case ipp::Property::kGoToAccel:
+      return &point.goto_accel;
+    case ipp::Property::kPtMeasSpeed:
+      return &point.meas_speed;
+    case ipp::Property::kPtMeasAccel:
+      return &point.meas_accel;
+    case ipp::Property::kPtMeasApproach:
+      return &point.approach;
+    case ipp::Property::kPtMeasSearch:
+      return &point.search;
+    case ipp::Property::kPtMeasRetract:
+      return &point.retract;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
+// The lines are read by the I++ layer's parser (ipp/line.hpp): the grammar the server reads.
 std::vector<IppPoint> parse_ipp_program(const std::string& text, const std::string& source) {
   std::vector<IppPoint> points;
   IppPoint current;
@@ -344,20 +348,19 @@ std::vector<IppPoint> parse_ipp_program(const std::string& text, const std::stri
     if (s.empty()) continue;
     const std::string where = source + ":" + std::to_string(line);
     if (ended) throw ConfigError(where + ": a command after EndSession()");
-    if (s.size() < 7 || s[5] != ' ') throw ConfigError(where + ": not 'NNNNN Command(...)'");
-    const int tag = std::atoi(s.substr(0, 5).c_str());
-    if (s.substr(0, 5).find_first_not_of("0123456789") != std::string::npos || tag <= last_tag) {
-      throw ConfigError(where + ": tag '" + s.substr(0, 5) +
+    ipp::CommandLine c;
+    const ipp::ParseStatus st = ipp::parse_command(s, c);
+    if (st == ipp::ParseStatus::kBadTag || st == ipp::ParseStatus::kNoSpace ||
+        st == ipp::ParseStatus::kNoCommand) {
+      throw ConfigError(where + ": not 'NNNNN Command(...)'");
+    }
+    if (st != ipp::ParseStatus::kOk) throw ConfigError(where + ": " + ipp::to_string(st));
+    if (c.tag.is_event() || c.tag.number <= last_tag) {
+      throw ConfigError(where + ": tag '" + std::string(c.tag.view()) +
                         "' is not a 5-digit number above the last");
     }
-    last_tag = tag;
-    const std::string command = s.substr(6);
-    const std::size_t open = command.find('(');
-    if (open == std::string::npos || command.back() != ')') {
-      throw ConfigError(where + ": not 'Command(...)'");
-    }
-    const std::string name = command.substr(0, open);
-    const std::string args = command.substr(open + 1, command.size() - open - 2);
+    last_tag = c.tag.number;
+    const std::string name(c.name);
     if (name == "StartSession") {
       started = true;
     } else if (!started) {
@@ -365,32 +368,24 @@ std::vector<IppPoint> parse_ipp_program(const std::string& text, const std::stri
     } else if (name == "EndSession") {
       ended = true;
     } else if (name == "SetProp") {
-      std::size_t p = 0;
-      while (p < args.size()) {
-        const std::size_t b = args.find_first_not_of(" ,", p);
-        if (b == std::string::npos) break;
-        const std::size_t paren = args.find('(', b);
-        if (paren == std::string::npos) throw ConfigError(where + ": bad SetProp");
-        const std::string prop = args.substr(b, paren - b);
-        p = b;
-        const std::vector<double> v = arguments(args, p, where);
-        if (v.size() != 1) throw ConfigError(where + ": " + prop + " takes one value");
-        double* field = prop == "Tool.GoToPar.Speed"        ? &current.goto_speed
-                        : prop == "Tool.GoToPar.Accel"      ? &current.goto_accel
-                        : prop == "Tool.PtMeasPar.Speed"    ? &current.meas_speed
-                        : prop == "Tool.PtMeasPar.Accel"    ? &current.meas_accel
-                        : prop == "Tool.PtMeasPar.Approach" ? &current.approach
-                        : prop == "Tool.PtMeasPar.Search"   ? &current.search
-                        : prop == "Tool.PtMeasPar.Retract"  ? &current.retract
-                                                            : nullptr;
-        if (field == nullptr) throw ConfigError(where + ": unknown property '" + prop + "'");
-        *field = v[0];
+      for (int i = c.args.first(); i >= 0; i = c.args[i].next_sibling) {
+        const ipp::Item& it = c.args[i];
+        const std::string prop(it.text);
+        ipp::Property p{};
+        if (it.kind != ipp::Item::Kind::kCall || !ipp::find_property(prop.data(), prop.size(), p)) {
+          throw ConfigError(where + ": unknown property '" + prop + "'");
+        }
+        const int v = it.first_child;
+        if (v < 0 || c.args[v].kind != ipp::Item::Kind::kNumber || c.args[v].next_sibling >= 0) {
+          throw ConfigError(where + ": " + prop + " takes one value");
+        }
+        *field_of(current, p) = c.args[v].number;
       }
     } else if (name == "GoTo") {
-      current.gotos.push_back(xyz(args, where, nullptr));
+      current.gotos.push_back(xyz(c.args, where, nullptr));
     } else if (name == "PtMeas") {
       current.ijk = {};
-      current.point = xyz(args, where, &current.ijk);
+      current.point = xyz(c.args, where, &current.ijk);
       points.push_back(current);
       current.gotos.clear();  // the properties persist, as on an I++ server
     } else {

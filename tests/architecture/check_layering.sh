@@ -55,7 +55,7 @@ allowed() {
     io) echo "core io" ;;
     twin) echo "core io twin" ;;
     training) echo "core io twin training" ;;
-    measure) echo "core io twin measure" ;;
+    measure) echo "core io twin ipp measure" ;;
     planning) echo "core io planning" ;;
     ipp) echo "core io ipp" ;;
     vc) echo "core io twin planning ipp vc" ;;
