@@ -185,6 +185,18 @@ TEST(MeasurePlan, TheIppReaderRejectsWhatItDoesNotKnowWithTheLine) {
   EXPECT_THROW(parse_ipp_program(bad, "plan.ipp"), ConfigError) << "tags must increase";
   EXPECT_THROW(parse_ipp_program(program.substr(0, program.rfind("EndSession")), "plan.ipp"),
                ConfigError);
+  // A number no I++ parser reads (issue 39 §1: what plan.ipp wrote before).
+  bad = program;
+  const std::size_t x = bad.find("GoTo(X(") + 7;
+  bad.replace(x, bad.find(')', x) - x, "5.700000000000003");
+  try {
+    parse_ipp_program(bad, "plan.ipp");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("plan.ipp:4: a number longer than 16 characters"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
