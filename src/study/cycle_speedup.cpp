@@ -15,6 +15,9 @@
 #include <cmmcomp/study/cycle_speedup.hpp>
 #include <cmmcomp/training/machine_identification.hpp>
 #include <cmmcomp/vc/length_geometry.hpp>
+#include <cmmcomp/vc/length_test.hpp>
+#include <cmmcomp/vc/twin_probe.hpp>
+#include <cmmcomp/vc/twin_source.hpp>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -148,6 +151,10 @@ planning::QualifiedReference reversal_map(const Machine& machine, const CycleRul
   }
   q.validate();
   return q;
+}
+
+std::string at_row(const std::string& machine, double pd) {
+  return fmt::format("{} PD {:g}", machine, pd);
 }
 
 }  // namespace
@@ -325,6 +332,54 @@ CycleChoice fastest_compensated_cycle(const Machine& truth,
   return first_passing(candidates(grid, pd_mm), machines, judge);
 }
 
+int length_test_passes(const Machine& truth,
+                       const Machine* model,
+                       const motion::ProbingMove& cycle,
+                       const std::vector<double>& y_mm,
+                       int seeds) {
+  // The machines run the cycle's own controller timing.
+  auto timed = [&cycle](Machine m) {
+    m.parameters.controller_dwell_s = cycle.dwell;
+    m.parameters.controller_smoothing_s = cycle.smoothing;
+    return m;
+  };
+  const Machine machine = timed(truth);
+  vc::LengthProgram program;
+  program.y_mm = y_mm;
+  program.fast = vc::ProbeSetting{"cycle",
+                                  cycle.positioning_speed * 1e3,
+                                  cycle.positioning_accel * 1e3,
+                                  cycle.positioning_distance * 1e3,
+                                  cycle.approach_speed * 1e3,
+                                  cycle.approach_accel * 1e3,
+                                  cycle.approach_distance * 1e3,
+                                  model != nullptr};
+  program.dwell_s = cycle.dwell;
+  program.smoothing_s = cycle.smoothing;
+  program.qualify = model == nullptr;
+  int passed = 0;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    dynamics::MeasurementNoise noise;
+    noise.enabled = true;
+    noise.seed = static_cast<std::uint64_t>(seed);
+    vc::TwinProbe probe(machine, noise);
+    std::vector<vc::CorrectionSource*> agents;
+    std::unique_ptr<vc::TwinSource> source;
+    if (model != nullptr) {
+      source = std::make_unique<vc::TwinSource>("identified", timed(*model));
+      agents.push_back(source.get());
+    }
+    const vc::LengthTestResult r = vc::run_length_test(program, probe, agents);
+    bool every_y = true;
+    for (const vc::YSummary& y : r.per_y) {
+      every_y =
+          every_y && (model == nullptr ? y.fast_uncompensated_pass : y.fast_compensated_pass.at(0));
+    }
+    passed += every_y ? 1 : 0;
+  }
+  return passed;
+}
+
 IdentifiedModel identify_from_campaign(const Machine& truth, const CampaignIdentification& c) {
   if (c.moves < 10) throw ConfigError("a campaign needs at least 10 moves");
   const motion::ControllerCapabilities& caps = truth.capabilities;
@@ -362,7 +417,8 @@ IdentifiedModel identify_from_campaign(const Machine& truth, const CampaignIdent
   training::IdentificationTargets targets;
   targets.moves = dynamics::simulate_dataset(truth, rows, noisy);
   training::IdentificationOptions options;
-  options.max_iterations = 60;
+  options.max_iterations = 100;
+  options.free_parameters = c.free_parameters;
   // The controller's timing is what the recordings measure (cmmcomp-measure extract), not a fit.
   Machine start = c.start;
   start.capabilities = truth.capabilities;
@@ -372,6 +428,7 @@ IdentifiedModel identify_from_campaign(const Machine& truth, const CampaignIdent
   // quasi-static lag trades the frequency against the participation): fit from several
   // frequencies and keep the lowest cost.
   training::IdentificationReport report;
+  double out_truth_cost = 0.0;
   bool have = false;
   for (const double scale : c.frequency_starts) {
     Machine s = start;
@@ -387,13 +444,23 @@ IdentifiedModel identify_from_campaign(const Machine& truth, const CampaignIdent
     have = true;
   }
   if (!have) throw Error("no identification from the campaign's starts converged");
+  // The cost the truth itself has on these moves: a fit above it stopped in a local minimum.
+  {
+    training::IdentificationOptions once = options;
+    once.max_iterations = 1;
+    Machine at_truth = truth;
+    at_truth.name = start.name;
+    out_truth_cost = training::identify_machine(at_truth, targets, once).initial_cost;
+  }
   IdentifiedModel out;
+  out.truth_cost = out_truth_cost;
   out.machine = report.fitted;
   out.machine.name = truth.name + " identified";
   out.parameters = report.free_parameters;
   out.fitted_values = report.fitted_values;
   out.relative_sigma = report.relative_sigma;
   out.final_cost = report.final_cost;
+  out.residuals = static_cast<int>(report.residuals.size());
   for (const std::string& key : report.free_parameters) {
     for (const auto& info : dynamics::machine_parameter_table()) {
       if (key == std::string(info.section) + "." + info.key) {
@@ -408,7 +475,8 @@ CycleSpeedupResult cycle_speedup(const std::vector<CycleSubject>& subjects,
                                  const std::vector<double>& pd_mm,
                                  const CycleRules& rules,
                                  const CampaignIdentification* campaign,
-                                 const std::function<void(const std::string&)>& progress) {
+                                 const std::function<void(const std::string&)>& progress,
+                                 int length_test_seeds) {
   const CycleRules r = rules.resolved();
   CycleSpeedupResult result;
   result.rules = r;
@@ -433,7 +501,29 @@ CycleSpeedupResult cycle_speedup(const std::vector<CycleSubject>& subjects,
         if (progress) progress(fmt::format("{} PD {:g}: identified model", s.truth.name, pd));
         row.identified = fastest_compensated_cycle(s.truth, s.model, pd, grid, r);
         row.has_identified = true;
-        const std::string at = fmt::format("{} PD {:g}", s.truth.name, pd);
+        if (length_test_seeds > 0) {
+          if (progress) progress(fmt::format("{} PD {:g}: length tests", s.truth.name, pd));
+          row.length_test_seeds = length_test_seeds;
+          if (row.qualified.found) {
+            row.qualified_seeds_passed = length_test_passes(
+                s.truth, nullptr, row.qualified.cycle, r.y_mm, length_test_seeds);
+          }
+          if (row.identified.found) {
+            row.identified_seeds_passed = length_test_passes(
+                s.truth, &s.model, row.identified.cycle, r.y_mm, length_test_seeds);
+          }
+          result.targets.push_back({at_row(s.truth.name, pd) + " qualified length test seeds",
+                                    static_cast<double>(row.qualified_seeds_passed),
+                                    static_cast<double>(length_test_seeds),
+                                    Target::Kind::kAtLeast,
+                                    "seeds"});
+          result.targets.push_back({at_row(s.truth.name, pd) + " compensated length test seeds",
+                                    static_cast<double>(row.identified_seeds_passed),
+                                    static_cast<double>(length_test_seeds),
+                                    Target::Kind::kAtLeast,
+                                    "seeds"});
+        }
+        const std::string at = at_row(s.truth.name, pd);
         const double comp = row.identified.found ? row.identified.time_s : 0.0;
         const double qual = row.qualified.found ? row.qualified.time_s : 0.0;
         result.targets.push_back({at + " compensated vs qualified, same freedom",

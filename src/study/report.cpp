@@ -335,36 +335,49 @@ std::string render_cycle_speedup(const Document& doc) {
       num(field(doc, "todays_reference_s"), 3));
   out +=
       "| machine | PD mm | qualified uncompensated, same freedom | oracle (a perfect model) | "
-      "identified model | qualified / identified | reference / identified |\n"
-      "| --- | --- | --- | --- | --- | --- | --- |\n";
+      "identified model | qualified / identified | reference / identified | length test: seeds "
+      "passing every Y (qualified, compensated) |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const Document& row : field(doc, "rows")) {
     const Document& q = field(row, "qualified");
     const Document& o = field(row, "oracle");
     const bool has_i = row.contains("identified");
     const bool both = has_i && field(q, "found").get<bool>() &&
                       field(field(row, "identified"), "found").get<bool>();
-    out += fmt::format("| {} | {:g} | {} | {} | {} | {} | {} |\n",
-                       field(row, "machine").get<std::string>(),
-                       field(row, "pd_mm").get<double>(),
-                       render_cycle_choice(q),
-                       render_cycle_choice(o),
-                       has_i ? render_cycle_choice(field(row, "identified")) : std::string("–"),
-                       both ? num(Document(field(q, "time_s").get<double>() /
-                                           field(field(row, "identified"), "time_s").get<double>()),
-                                  2) +
-                                  "x"
-                            : std::string("–"),
-                       has_i && field(field(row, "identified"), "found").get<bool>()
-                           ? num(Document(field(doc, "todays_reference_s").get<double>() /
-                                          field(field(row, "identified"), "time_s").get<double>()),
-                                 2) +
-                                 "x"
-                           : std::string("–"));
+    const bool tested =
+        row.contains("length_test") && field(field(row, "length_test"), "seeds").get<int>() > 0;
+    out += fmt::format(
+        "| {} | {:g} | {} | {} | {} | {} | {} | {} |\n",
+        field(row, "machine").get<std::string>(),
+        field(row, "pd_mm").get<double>(),
+        render_cycle_choice(q),
+        render_cycle_choice(o),
+        has_i ? render_cycle_choice(field(row, "identified")) : std::string("–"),
+        both ? num(Document(field(q, "time_s").get<double>() /
+                            field(field(row, "identified"), "time_s").get<double>()),
+                   2) +
+                   "x"
+             : std::string("–"),
+        has_i && field(field(row, "identified"), "found").get<bool>()
+            ? num(Document(field(doc, "todays_reference_s").get<double>() /
+                           field(field(row, "identified"), "time_s").get<double>()),
+                  2) +
+                  "x"
+            : std::string("–"),
+        tested ? fmt::format("{} and {} of {}",
+                             field(field(row, "length_test"), "qualified_passed").get<int>(),
+                             field(field(row, "length_test"), "identified_passed").get<int>(),
+                             field(field(row, "length_test"), "seeds").get<int>())
+               : std::string("–"));
   }
   for (const Document& m : field(doc, "identified")) {
-    out += fmt::format("\nIdentified from its campaign: {} (cost {}).\n\n",
-                       field(m, "machine").get<std::string>(),
-                       num(field(m, "final_cost"), 4));
+    out += fmt::format(
+        "\nIdentified from its campaign: {}, cost {} over {} residuals (the truth's own cost on "
+        "the same moves: {}; a fit above it stopped short of the best the model can do).\n\n",
+        field(m, "machine").get<std::string>(),
+        num(field(m, "final_cost"), 1),
+        field(m, "residuals").get<int>(),
+        num(field(m, "truth_cost"), 1));
     out +=
         "| parameter | truth | fitted | fitted / truth − 1 | 1 sigma |\n"
         "| --- | --- | --- | --- | --- |\n";
@@ -517,7 +530,10 @@ Document cycle_speedup_document(const CycleSpeedupResult& result) {
   doc["todays_reference_s"] = todays_qualified_reference_s();
   doc["identified"] = Document::array();
   for (const IdentifiedModel& m : result.identified) {
-    Document d{{"machine", m.machine.name}, {"final_cost", m.final_cost}};
+    Document d{{"machine", m.machine.name},
+               {"final_cost", m.final_cost},
+               {"truth_cost", m.truth_cost},
+               {"residuals", m.residuals}};
     d["parameters"] = Document::array();
     for (std::size_t i = 0; i < m.parameters.size(); ++i) {
       d["parameters"].push_back(Document{{"key", m.parameters[i]},
@@ -533,7 +549,12 @@ Document cycle_speedup_document(const CycleSpeedupResult& result) {
                {"pd_mm", row.pd_mm},
                {"qualified", cycle_choice(row.qualified)},
                {"oracle", cycle_choice(row.oracle)}};
-    if (row.has_identified) d["identified"] = cycle_choice(row.identified);
+    if (row.has_identified) {
+      d["identified"] = cycle_choice(row.identified);
+      d["length_test"] = Document{{"seeds", row.length_test_seeds},
+                                  {"qualified_passed", row.qualified_seeds_passed},
+                                  {"identified_passed", row.identified_seeds_passed}};
+    }
     doc["rows"].push_back(d);
   }
   return doc;

@@ -9,6 +9,7 @@
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/study/cycle_speedup.hpp>
 #include <cmmcomp/study/report.hpp>
+#include <cmmcomp/vc/twin_source.hpp>
 #include <string>
 #include <vector>
 
@@ -156,10 +157,40 @@ TEST(CycleSpeedup, TheDocumentRendersEveryRowAndTheTargets) {
   s.model = m;
   const CycleSpeedupResult r = cycle_speedup({s}, {kPd}, two_y());
   ASSERT_EQ(r.rows.size(), 1u);
-  ASSERT_EQ(r.targets.size(), 2u);
+  // The two speed-ups and the two length tests.
+  ASSERT_EQ(r.targets.size(), 4u);
+  EXPECT_EQ(r.rows[0].length_test_seeds, 5);
   const std::string text = render_markdown(cycle_speedup_document(r));
   EXPECT_NE(text.find("| paper-default | 40 |"), std::string::npos) << text;
   EXPECT_NE(text.find("oracle"), std::string::npos);
+  EXPECT_NE(text.find(" of 5 |"), std::string::npos) << text;
+}
+
+TEST(TwinSource, AnswersItsMachinesTouchErrorAlongTheApproach) {
+  const dynamics::Machine m = dynamics::default_machine();
+  vc::TwinSource source("twin", m);
+  compensation::MoveRequest request;
+  request.direction = {-1.0, 0.0, 0.0};
+  request.pv_mm_s = 100;
+  request.pa_mm_s2 = 600;
+  request.pd_mm = 40;
+  request.av_mm_s = 8;
+  request.aa_mm_s2 = 300;
+  request.ad_mm = 3;
+  request.y_mm = 400;
+  const vc::Answer a = source.ask(request);
+  ASSERT_TRUE(a.usable) << a.note;
+  const double rae = dynamics::BridgeSimulator(m)
+                         .simulate(motion::probing_move_mm(100, 600, 40, 8, 300, 3), 0.4)
+                         .errors_um.rae;
+  EXPECT_EQ(a.rae_um, rae);
+  EXPECT_EQ(a.correction_um[0], -rae);
+  EXPECT_EQ(a.correction_um[1], 0.0);
+  // A move the controller refuses is an unusable answer with its reason, not an exception.
+  request.pa_mm_s2 = 5000;
+  const vc::Answer refused = source.ask(request);
+  EXPECT_FALSE(refused.usable);
+  EXPECT_FALSE(refused.note.empty());
 }
 
 }  // namespace

@@ -124,9 +124,9 @@ struct CycleSubject {
 /// parameters, with Table 1 noise of `seed`) on a Latin hypercube over the machine's
 /// capabilities (PV, PD 5–300 mm, AV, AD, PA, AA) and Y 0–500 mm, at the controller's own
 /// timing (which the recordings measure: the start takes the truth's dwell and smoothing); then
-/// training::identify_machine from `start` with its default free parameters
-/// (the physics a model of this twin's structure has: the first mode, the hose; never the
-/// second mode or the frequency's change along the beam).
+/// training::identify_machine from `start` with `free_parameters` (the physics a model of this
+/// twin's structure has: the first mode, the hose; never the second mode or the frequency's
+/// change along the beam).
 struct CampaignIdentification {
   int moves = 150;
   std::uint64_t seed = 1;
@@ -134,6 +134,16 @@ struct CampaignIdentification {
   /// The fit runs from the start's mode frequency times each of these (outside the plausible
   /// range: skipped) and keeps the lowest cost: the objective has a minimum per frequency.
   std::vector<double> frequency_starts{0.6, 0.8, 1.0, 1.25};
+  /// The keys fitted: the first mode and the hose, the Coulomb drag's regularisation speed
+  /// included (a start file's guess of it, held fixed, leaves the fit a systematic misfit).
+  std::vector<std::string> free_parameters{"structure.mode_frequency_hz",
+                                           "structure.participation",
+                                           "structure.shape_growth",
+                                           "hose.time_constant_s",
+                                           "hose.viscous_drag_Ns_per_m",
+                                           "hose.coulomb_drag_N",
+                                           "hose.coulomb_speed_m_per_s",
+                                           "hose.accel_lag_s2"};
 };
 
 /// The identified machine, named "<truth> identified", and the fit's parameter uncertainties.
@@ -144,6 +154,8 @@ struct IdentifiedModel {
   std::vector<double> fitted_values;
   std::vector<double> relative_sigma;  ///< 1σ / value (training::IdentificationReport)
   double final_cost = 0.0;
+  double truth_cost = 0.0;  ///< the truth's own cost on the campaign (the noise's): the floor
+  int residuals = 0;        ///< of the fit (4 per move)
 };
 
 /// Identifies `truth` from its campaign (above). Throws what identify_machine throws.
@@ -158,6 +170,13 @@ struct CycleSpeedupRow {
   CycleChoice oracle;      ///< compensated by the truth itself (the bound)
   CycleChoice identified;  ///< compensated by the identified machine (when one is given)
   bool has_identified = false;
+  /// The virtual controller's length test (vc::run_length_test, every Y of the rules) of the
+  /// chosen cycles on the truth with Table 1 noise, one run per seed 1 … length_test_seeds:
+  /// the seeds at which every Y met MPE_E, qualified (uncompensated columns qualified) and
+  /// compensated (corrected by the identified machine through vc::TwinSource).
+  int length_test_seeds = 0;
+  int qualified_seeds_passed = 0;
+  int identified_seeds_passed = 0;
 };
 
 struct CycleSpeedupResult {
@@ -167,14 +186,24 @@ struct CycleSpeedupResult {
   std::vector<Target> targets;
 };
 
+/// The seeds 1 … `seeds` at which the length test of `cycle` on `truth` (at the cycle's own
+/// timing) met MPE_E at every Y of `y_mm`: uncompensated and qualified when `model` is null,
+/// else compensated by `model` (vc::TwinSource at the same timing).
+int length_test_passes(const dynamics::Machine& truth,
+                       const dynamics::Machine* model,
+                       const motion::ProbingMove& cycle,
+                       const std::vector<double>& y_mm,
+                       int seeds);
+
 /// Every subject at every PD. Targets per row with a model: compensated/qualified ≥ 1.4 and
-/// today's reference/compensated ≥ 3.5 (issue 38 §4). `progress` gets a line per step.
-/// With `campaign`, a subject without a model gets one identified from its campaign
-/// (identify_from_campaign()).
+/// today's reference/compensated ≥ 3.5 (issue 38 §4), and both chosen cycles pass the length
+/// test at every seed of `length_test_seeds`. With `campaign`, a subject without a model gets
+/// one identified from its campaign (identify_from_campaign()). `progress` gets a line per step.
 CycleSpeedupResult cycle_speedup(const std::vector<CycleSubject>& subjects,
                                  const std::vector<double>& pd_mm,
                                  const CycleRules& rules,
                                  const CampaignIdentification* campaign = nullptr,
-                                 const std::function<void(const std::string&)>& progress = {});
+                                 const std::function<void(const std::string&)>& progress = {},
+                                 int length_test_seeds = 5);
 
 }  // namespace cmmcomp::study
