@@ -97,6 +97,14 @@ struct Server::Impl {
     const int c = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
     if (c < 0) return;
     if (fd >= 0) {
+      // A client that has just left (a proxy or a program reconnecting at once) is not an
+      // active session: its end may wait behind this connection in the same poll round.
+      pollfd q{fd, POLLRDHUP, 0};
+      if (::poll(&q, 1, 0) > 0 && (q.revents & (POLLRDHUP | POLLHUP | POLLERR))) {
+        drop("it closed the connection");
+      }
+    }
+    if (fd >= 0) {
       const std::string line =
           error_line("E0000", ErrorCode::kBadContext, "", "another client session is active") +
           "\r\n";

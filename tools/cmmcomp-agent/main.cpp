@@ -48,6 +48,8 @@ struct Options {
   int modbus_unit = 1;
   std::string outside_domain = "clamp";
   std::string log_level = "info";
+  std::string ipp_proxy;
+  std::string ipp_upstream;
 
   /// The settings the options say (setup; throws ConfigError for a bad --model or base id).
   AgentSettings settings() const {
@@ -121,6 +123,13 @@ static int run_tool(int argc, char** argv) {
           ->capture_default_str()
           ->check(CLI::IsMember(std::vector<std::string>(std::begin(cmmcomp::serving::kLogLevels),
                                                          std::end(cmmcomp::serving::kLogLevels))));
+  auto* ipp_proxy = app.add_option(
+      "--ipp-proxy",
+      opt.ipp_proxy,
+      "run the compensating I++ DME proxy listening on HOST:PORT (docs/protocol-ippdme.md) "
+      "instead of serving a bus; needs --ipp-upstream");
+  auto* ipp_upstream = app.add_option(
+      "--ipp-upstream", opt.ipp_upstream, "the I++ DME server the proxy forwards to, HOST:PORT");
   app.set_version_flag("--version", std::string("cmmcomp-agent ") + CMMCOMP_VERSION_STRING);
   try {
     app.parse(argc, argv);
@@ -132,6 +141,33 @@ static int run_tool(int argc, char** argv) {
       std::fprintf(stderr,
                    "cmmcomp-agent: %s and --config: give every setting in the file\n",
                    o->get_name().c_str());
+      return 2;
+    }
+  }
+  if (ipp_proxy->count() > 0 || ipp_upstream->count() > 0) {
+    if (ipp_proxy->count() == 0 || ipp_upstream->count() == 0) {
+      std::fprintf(stderr, "cmmcomp-agent: --ipp-proxy and --ipp-upstream go together\n");
+      return 2;
+    }
+    for (CLI::Option* o : {config, can, modbus, unit}) {
+      if (o->count() > 0) {
+        std::fprintf(stderr,
+                     "cmmcomp-agent: %s and --ipp-proxy: the proxy serves no bus\n",
+                     o->get_name().c_str());
+        return 2;
+      }
+    }
+    try {
+      cmmcomp::serving::IppProxyOptions p;
+      cmmcomp::serving::parse_host_port(opt.ipp_proxy, "--ipp-proxy", p.listen_host, p.listen_port);
+      cmmcomp::serving::parse_host_port(
+          opt.ipp_upstream, "--ipp-upstream", p.upstream_host, p.upstream_port);
+      return cmmcomp::serving::run_ipp_proxy(opt.settings(), p, opt.check);
+    } catch (const cmmcomp::ConfigError& e) {
+      std::fprintf(stderr, "cmmcomp-agent: %s\n", e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      spdlog::critical("{}", e.what());
       return 2;
     }
   }

@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "ipp_proxy.hpp"
 #include "model_slots.hpp"
 #include "outcome_logger.hpp"
 
@@ -286,6 +287,80 @@ int run_agent(AgentSettings settings, const std::string& config_path, bool check
   // A reload in progress finishes first: every read is bounded (a regular file of at most
   // 4 MiB, opened non-blocking: docs/fuzzing.md, "Files").
   reloader.join();
+  spdlog::info("stopped");
+  return exit_code;
+}
+
+int run_ipp_proxy(const AgentSettings& settings, const IppProxyOptions& proxy_options, bool check) {
+  spdlog::set_level(spdlog::level::from_str(settings.log_level));
+  spdlog::info("cmmcomp-agent {} (I++ DME proxy)", CMMCOMP_VERSION_STRING);
+  const std::vector<ModelSlot> slots = slots_of(settings);
+  cmmcomp::compensation::CompensatorOptions copt;
+  copt.outside_domain = settings.outside_domain;
+  cmmcomp::compensation::MoveCompensator compensator(copt);
+  if (!report(cmmcomp::serving::load_slots(slots, compensator), false)) return 2;
+  if (check) {
+    std::printf("cmmcomp-agent: settings and %zu model(s) are valid\n", slots.size());
+    return 0;
+  }
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGHUP);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  IppProxyOptions o = proxy_options;
+  o.log = [](const std::string& line) {
+    if (line.rfind("a point passed uncorrected", 0) == 0) {
+      spdlog::warn("I++ proxy: {}", line);
+    } else {
+      spdlog::info("I++ proxy: {}", line);
+    }
+  };
+  IppProxy proxy(compensator, o);
+  const std::string where = o.listen_host + ":" + std::to_string(proxy.port());
+  std::atomic<bool> failed{false};
+  std::thread serving([&] {
+    try {
+      proxy.run();
+    } catch (const std::exception& e) {
+      spdlog::critical("I++ proxy: {}", e.what());
+      failed = true;
+    }
+  });
+  std::printf("cmmcomp-agent: I++ proxy listening on %s, upstream %s:%u\n",
+              where.c_str(),
+              o.upstream_host.c_str(),
+              static_cast<unsigned>(o.upstream_port));
+  std::fflush(stdout);
+  spdlog::info(
+      "I++ proxy listening on {}, upstream {}:{}", where, o.upstream_host, o.upstream_port);
+  int exit_code = 0;
+  while (true) {
+    const timespec tick{0, 200'000'000};
+    const int sig = sigtimedwait(&signals, nullptr, &tick);
+    if (failed) {
+      exit_code = 1;
+      break;
+    }
+    if (sig == SIGHUP) {
+      // The proxy's thread keeps serving: publish is a wait-free swap for its readers.
+      spdlog::info("SIGHUP: reloading {} model(s)", slots.size());
+      report(cmmcomp::serving::load_slots(slots, compensator), true);
+    } else if (sig == SIGTERM || sig == SIGINT) {
+      spdlog::info("{}: stopping", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+      break;
+    } else if (sig < 0 && errno != EAGAIN && errno != EINTR) {
+      spdlog::critical("sigtimedwait failed: errno {}", errno);
+      exit_code = 1;
+      break;
+    }
+  }
+  proxy.request_stop();
+  serving.join();
+  const IppProxyCounters c = proxy.counters();
+  spdlog::info("I++ proxy: {} points, {} corrected", c.points, c.corrected);
   spdlog::info("stopped");
   return exit_code;
 }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "agent_config.hpp"
+#include "ipp_proxy.hpp"
 
 namespace cmmcomp::serving {
 
@@ -20,5 +21,10 @@ namespace cmmcomp::serving {
 /// (empty: none) is re-read on SIGHUP. With `check`, returns after loading the models. Exit
 /// status: 0; 1 when a server failed; 2 when a model could not be loaded at start.
 int run_agent(AgentSettings settings, const std::string& config_path, bool check);
+
+/// Loads the models of `settings` as run_agent does and runs the compensating I++ DME proxy
+/// (ipp_proxy.hpp) until SIGTERM or SIGINT; SIGHUP reloads the model files (a file that fails
+/// keeps the old model serving). Same exit status as run_agent.
+int run_ipp_proxy(const AgentSettings& settings, const IppProxyOptions& proxy, bool check);
 
 }  // namespace cmmcomp::serving
