@@ -32,6 +32,7 @@ struct Options {
   bool no_noise = false;
   std::string machine;
   std::string ipp;
+  bool ipp_proxied = false;  ///< --ipp is a compensating proxy: its corrections are an agent
   std::string csv;
   bool json = false;
   std::string plot;

@@ -38,6 +38,11 @@ Command add_options(CLI::App& app) {
                  "serve-ipp) instead of the twin in this process; its noise is the server's, "
                  "--machine gives the dwell and smoothing counted per point "
                  "(docs/protocol-ippdme.md)");
+  app.add_flag("--ipp-proxied",
+               opt->ipp_proxied,
+               "the --ipp server is a compensating proxy (cmmcomp-agent --ipp-proxy): the "
+               "corrections it applies to the touches are an agent labelled ipp-proxy; the "
+               "touches are the server's (the proxy's correction taken off)");
   app.add_option("--csv", opt->csv, "log every point to this CSV");
   app.add_flag("--json", opt->json, "print the report as JSON");
   app.add_option("--plot", opt->plot, "write length-error PNGs (one per Y) into this directory");

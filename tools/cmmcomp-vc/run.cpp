@@ -55,6 +55,10 @@ int run(const Options& opt) {
   }
   // The touches: the twin in this process, or the machine behind an I++ DME server.
   std::unique_ptr<TouchErrorModel> touches;
+  IppProbe* ipp_probe = nullptr;
+  if (opt.ipp_proxied && opt.ipp.empty()) {
+    throw cmmcomp::ConfigError("--ipp-proxied needs --ipp HOST:PORT (the proxy)");
+  }
   if (opt.ipp.empty()) {
     touches = std::make_unique<TwinProbe>(machine, noise);
   } else {
@@ -66,8 +70,10 @@ int run(const Options& opt) {
       throw cmmcomp::ConfigError("--ipp: '" + opt.ipp + "' is not HOST:PORT");
     }
     try {
-      touches = std::make_unique<IppProbe>(opt.ipp.substr(0, colon),
-                                           static_cast<std::uint16_t>(std::stol(port_text)));
+      auto probe = std::make_unique<IppProbe>(opt.ipp.substr(0, colon),
+                                              static_cast<std::uint16_t>(std::stol(port_text)));
+      ipp_probe = probe.get();
+      touches = std::move(probe);
     } catch (const cmmcomp::Error& e) {
       throw UnreachableError(e.what());
     }
@@ -101,7 +107,7 @@ int run(const Options& opt) {
     specs[1].label = "can";
   }
   for (const auto& a : opt.agents) specs.push_back(parse_agent_spec(a));
-  if (specs.empty()) {
+  if (specs.empty() && !opt.ipp_proxied) {
     throw cmmcomp::ConfigError("no agent: give --modbus tcp:HOST:PORT, --can IFACE or --agent");
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
@@ -162,6 +168,14 @@ int run(const Options& opt) {
       if (s.label == specs[i].label) per_y.emplace_back(s.y_mm, connect(s));
     }
     links.push_back(std::make_unique<PerYSource>(specs[i].label, std::move(per_y)));
+  }
+  if (opt.ipp_proxied) {
+    for (const AgentSpec& s : specs) {
+      if (s.label == "ipp-proxy") {
+        throw cmmcomp::ConfigError("the label 'ipp-proxy' is --ipp-proxied's");
+      }
+    }
+    links.push_back(std::make_unique<IppProxySource>(*ipp_probe, "ipp-proxy", "ipp " + opt.ipp));
   }
   std::vector<CorrectionSource*> agents;
   agents.reserve(links.size());

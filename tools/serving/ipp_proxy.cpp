@@ -284,10 +284,16 @@ struct IppProxyLogic::Impl {
     }
   }
 
-  /// Appends the marks: U95 of the corrected coordinate along d [mm] when corrected, the flags.
-  void append_marks(bool corrected, double u95_mm, std::uint32_t flags) {
-    if (corrected) {
-      out += ", CmmcompU95(";
+  /// Appends the marks: when corrected, the correction added to X, Y, Z [mm] and U95 of the
+  /// corrected point along d [mm]; always the flags.
+  void append_marks(const compensation::Correction* corrected, double u95_mm, std::uint32_t flags) {
+    if (corrected != nullptr) {
+      out += ", CmmcompCorrection(";
+      for (std::size_t a = 0; a < 3; ++a) {
+        if (a > 0) out += ", ";
+        format_number(corrected->correction_um[a] * 1e-3, out);
+      }
+      out += "), CmmcompU95(";
       format_number(u95_mm, out);
       out += ")";
     }
@@ -322,14 +328,14 @@ struct IppProxyLogic::Impl {
     if (number_item[0] < 0 || number_item[1] < 0 || number_item[2] < 0) {
       log_once("the data line has no X(), Y() and Z() to correct (OnPtMeasReport)");
       out.append(body);
-      append_marks(false, 0, kIppFlagReportFormat);
+      append_marks(nullptr, 0, kIppFlagReportFormat);
       if (cr) out += '\r';
       return out;
     }
     if (!move.ok) {
       log_once(move.problem);
       out.append(body);
-      append_marks(false, 0, kIppFlagNotRebuilt);
+      append_marks(nullptr, 0, kIppFlagNotRebuilt);
       if (cr) out += '\r';
       return out;
     }
@@ -357,7 +363,7 @@ struct IppProxyLogic::Impl {
                : s == Status::kOutsideDomainRejected ? "the move is outside the model's domain"
                                                      : "the compensator refused the move");
       out.append(body);
-      append_marks(false, 0, compensation::flags_for(s));
+      append_marks(nullptr, 0, compensation::flags_for(s));
       if (cr) out += '\r';
       return out;
     }
@@ -377,7 +383,7 @@ struct IppProxyLogic::Impl {
       at = offset + it.text.size();
     }
     out.append(body.substr(at));
-    append_marks(true, c.u95_um[3] * 1e-3, c.flags);
+    append_marks(&c, c.u95_um[3] * 1e-3, c.flags);
     if (cr) out += '\r';
     ++counters.corrected;
     return out;

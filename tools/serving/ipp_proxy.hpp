@@ -4,7 +4,8 @@
 /// serve-ipp), every line passes through byte for byte in both directions, in order, except the
 /// data line of each PtMeas, whose X, Y, Z it corrects along the approach direction with the
 /// compensator's prediction for the probing move it rebuilds (ipp::ProbingMoveTracker, the rule
-/// the server uses), and to which it appends `CmmcompU95(mm)` and `CmmcompFlags(n)`.
+/// the server uses), and to which it appends `CmmcompCorrection(dx, dy, dz)` (what it added [mm]),
+/// `CmmcompU95(mm)` and `CmmcompFlags(n)`; an uncorrected point gets `CmmcompFlags(n)` only.
 ///
 /// IppProxyLogic is the line side without sockets (what the tests and the benchmark drive);
 /// IppProxy the socket side: one client at a time (a second connection gets `E0000 ! Error(3,

@@ -186,6 +186,9 @@ std::string expected_line(const std::string& direct,
               format_ipp_number(-r.direction[1]) + ", " + format_ipp_number(-r.direction[2]) + ")";
     }
   }
+  data += ", CmmcompCorrection(" + format_ipp_number(c.correction_um[0] * 1e-3) + ", " +
+          format_ipp_number(c.correction_um[1] * 1e-3) + ", " +
+          format_ipp_number(c.correction_um[2] * 1e-3) + ")";
   data += ", CmmcompU95(" + format_ipp_number(c.u95_um[3] * 1e-3) + "), CmmcompFlags(" +
           std::to_string(c.flags) + ")";
   return std::string(a.tag.view()) + " # " + data;
