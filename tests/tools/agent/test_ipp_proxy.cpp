@@ -20,6 +20,9 @@
 #include <cmmcomp/ipp/server.hpp>
 #include <cmmcomp/ipp/session.hpp>
 #include <cmmcomp/vc/ipp_twin_machine.hpp>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -27,6 +30,7 @@
 
 #include "ipp_proxy.hpp"
 #include "model_slots.hpp"
+#include "tools/agent/agent_process.hpp"
 
 namespace ipp = cmmcomp::ipp;
 namespace serving = cmmcomp::serving;
@@ -420,5 +424,80 @@ TEST(IppProxyLogic, ARefusedOrFailedCommandChangesNothingOrForgetsThePosition) {
   a = l.run("00007 PtMeas(X(0), Y(250), Z(-20), IJK(1, 0, 0))", data);
   EXPECT_NE(a.find("CmmcompFlags(256)"), std::string::npos) << a;
 }
+
+namespace sighup {
+
+using namespace std::chrono_literals;
+using cmmcomp::test::AgentProcess;
+
+int port_after(AgentProcess& p, const std::string& marker) {
+  if (!p.wait_for_output(marker, 10s)) return 0;
+  const std::string& out = p.output();
+  std::size_t at = out.find(marker) + marker.size();
+  int port = 0;
+  while (at < out.size() && out[at] >= '0' && out[at] <= '9') port = port * 10 + (out[at++] - '0');
+  return port;
+}
+
+void copy_file(const std::string& from, const std::string& to) {
+  std::ifstream in(from, std::ios::binary);
+  std::ofstream out(to + ".tmp", std::ios::binary);
+  out << in.rdbuf();
+  out.close();
+  std::rename((to + ".tmp").c_str(), to.c_str());
+}
+
+/// One probed point through the proxy: its data line.
+std::string probe_once(int port) {
+  ipp::Client c("127.0.0.1", static_cast<std::uint16_t>(port));
+  EXPECT_TRUE(c.call("StartSession()").ok());
+  EXPECT_TRUE(c.call(setprops()).ok());
+  EXPECT_TRUE(c.call(ptmeas_props()).ok());
+  EXPECT_TRUE(c.call("GoTo(X(70), Y(250), Z(-20))").ok());
+  EXPECT_TRUE(c.call("GoTo(X(10), Y(250), Z(-20))").ok());
+  const ipp::Transaction t = c.call("PtMeas(X(0), Y(250), Z(-20), IJK(1, 0, 0))");
+  EXPECT_TRUE(c.call("EndSession()").ok());
+  return t.data.empty() ? std::string() : t.data[0];
+}
+
+TEST(IppProxyProcess, SighupSwapsTheModelAndABrokenFileKeepsTheOldOne) {
+  const std::string model =
+      ::testing::TempDir() + "ipp_proxy_model_" + std::to_string(::getpid()) + ".json";
+  copy_file(CMMCOMP_MODELS_DIR "/default.json", model);
+  AgentProcess server(CMMCOMP_SIM_PATH, {"serve-ipp", "--listen", "127.0.0.1:0"});
+  const int upstream = port_after(server, "listening on 127.0.0.1:");
+  ASSERT_GT(upstream, 0) << server.output();
+  AgentProcess proxy(CMMCOMP_AGENT_PATH,
+                     {"--ipp-proxy",
+                      "127.0.0.1:0",
+                      "--ipp-upstream",
+                      "127.0.0.1:" + std::to_string(upstream),
+                      "--model",
+                      model});
+  const int port = port_after(proxy, "I++ proxy listening on 127.0.0.1:");
+  ASSERT_GT(port, 0) << proxy.output();
+  const std::string before = probe_once(port);
+  EXPECT_NE(before.find("CmmcompCorrection("), std::string::npos) << before;
+
+  copy_file(CMMCOMP_MODELS_DIR "/default-y.json", model);
+  proxy.signal(SIGHUP);
+  ASSERT_TRUE(proxy.wait_for_output("reloaded model", 10s)) << proxy.output();
+  const std::string after = probe_once(port);
+  EXPECT_NE(after.find("CmmcompCorrection("), std::string::npos) << after;
+  EXPECT_NE(after, before);  // another model, another correction
+
+  {
+    std::ofstream broken(model, std::ios::trunc);
+    broken << "{ not a model";
+  }
+  proxy.signal(SIGHUP);
+  ASSERT_TRUE(proxy.wait_for_output("keeps serving", 10s)) << proxy.output();
+  EXPECT_EQ(probe_once(port), after);
+  proxy.signal(SIGTERM);
+  EXPECT_EQ(proxy.wait_exit(10s), 0) << proxy.output();
+  std::remove(model.c_str());
+}
+
+}  // namespace sighup
 
 }  // namespace
