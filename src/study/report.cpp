@@ -373,7 +373,9 @@ std::string render_cycle_speedup(const Document& doc) {
   for (const Document& m : field(doc, "identified")) {
     out += fmt::format(
         "\nIdentified from its campaign: {}, cost {} over {} residuals (the truth's own cost on "
-        "the same moves: {}; a fit above it stopped short of the best the model can do).\n\n",
+        "the same moves: {}; a fit well above it stopped in a local minimum or lacks physics the "
+        "machine has, and then its 1 sigma, which assumes the model is right, understates the "
+        "error).\n\n",
         field(m, "machine").get<std::string>(),
         num(field(m, "final_cost"), 1),
         field(m, "residuals").get<int>(),
