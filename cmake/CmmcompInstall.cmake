@@ -54,7 +54,7 @@ endforeach()
 if(TARGET cmmcomp-agent)
   install(FILES "${PROJECT_SOURCE_DIR}/packaging/agent.toml"
           DESTINATION ${CMAKE_INSTALL_DATADIR}/cmmcomp COMPONENT agent)
-  install(FILES "${PROJECT_SOURCE_DIR}/docs/agent.md"
+  install(FILES "${PROJECT_SOURCE_DIR}/docs/agent.md" "${PROJECT_SOURCE_DIR}/docs/protocol-ippdme.md"
           DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/cmmcomp-agent COMPONENT agent)
 endif()
 

@@ -17,7 +17,16 @@ if(TARGET cmmcomp-agent)
           COMPONENT agent EXCLUDE_FROM_ALL)
   install(FILES "${PROJECT_SOURCE_DIR}/packaging/agent.toml" DESTINATION /etc/cmmcomp
           COMPONENT agent EXCLUDE_FROM_ALL)
-  file(WRITE "${PROJECT_BINARY_DIR}/packaging/conffiles" "/etc/cmmcomp/agent.toml\n")
+  # The compensating I++ DME proxy (cmmcomp-agent --ipp-proxy) as a second unit.
+  configure_file("${PROJECT_SOURCE_DIR}/packaging/cmmcomp-ipp-proxy.service.in"
+                 "${PROJECT_BINARY_DIR}/packaging/cmmcomp-ipp-proxy.service" @ONLY)
+  install(FILES "${PROJECT_BINARY_DIR}/packaging/cmmcomp-ipp-proxy.service"
+          DESTINATION "${CMMCOMP_PACKAGE_PREFIX}/lib/systemd/system"
+          COMPONENT agent EXCLUDE_FROM_ALL)
+  install(FILES "${PROJECT_SOURCE_DIR}/packaging/ipp-proxy.env" DESTINATION /etc/cmmcomp
+          COMPONENT agent EXCLUDE_FROM_ALL)
+  file(WRITE "${PROJECT_BINARY_DIR}/packaging/conffiles"
+       "/etc/cmmcomp/agent.toml\n/etc/cmmcomp/ipp-proxy.env\n")
 endif()
 
 set(CPACK_GENERATOR DEB)

@@ -27,12 +27,15 @@ for f in usr/include/cmmcomp/schema.hpp usr/include/cmmcomp/compensator.h \
          usr/bin/cmmcomp-sim usr/bin/cmmcomp-train usr/bin/cmmcomp-measure usr/bin/cmmcomp-replay \
          usr/bin/cmmcomp-vc \
          usr/bin/cmmcomp-agent usr/lib/systemd/system/cmmcomp-agent.service \
+         usr/lib/systemd/system/cmmcomp-ipp-proxy.service etc/cmmcomp/ipp-proxy.env \
+         usr/share/doc/cmmcomp-agent/protocol-ippdme.md \
          etc/cmmcomp/agent.toml; do
   [ -e "$root/$f" ] || fail "missing /$f"
 done
 ls "$root"/usr/lib/libcmmcomp_capi.so.* > /dev/null || fail "missing libcmmcomp_capi.so"
 dpkg-deb -e "$(ls "$work"/debs/cmmcomp-agent_*.deb)" "$work/control"
 grep -qx /etc/cmmcomp/agent.toml "$work/control/conffiles" || fail "agent.toml is not a conffile"
+grep -qx /etc/cmmcomp/ipp-proxy.env "$work/control/conffiles" || fail "ipp-proxy.env is not a conffile"
 
 # The unit, against this machine's systemd units; its ExecStart, /usr/bin/cmmcomp-agent, is
 # pointed at the scratch root's copy (verify checks that the program exists and is executable).
@@ -43,6 +46,13 @@ if command -v systemd-analyze > /dev/null; then
     || fail "the unit's ExecStart is not the packaged agent"
   systemd-analyze verify "$work/cmmcomp-agent.service" > "$work/verify.log" 2>&1 \
     || { cat "$work/verify.log"; fail "systemd-analyze verify"; }
+  if [ -s "$work/verify.log" ]; then cat "$work/verify.log"; fail "systemd-analyze verify warned"; fi
+  # The I++ proxy's unit reads its command line from /etc/cmmcomp/ipp-proxy.env.
+  sed -e "s|/usr/bin/cmmcomp-agent|$root/usr/bin/cmmcomp-agent|" \
+      -e "s|^EnvironmentFile=/etc/cmmcomp/|EnvironmentFile=$root/etc/cmmcomp/|" \
+    "$root/usr/lib/systemd/system/cmmcomp-ipp-proxy.service" > "$work/cmmcomp-ipp-proxy.service"
+  systemd-analyze verify "$work/cmmcomp-ipp-proxy.service" > "$work/verify.log" 2>&1 \
+    || { cat "$work/verify.log"; fail "systemd-analyze verify (ipp proxy)"; }
   if [ -s "$work/verify.log" ]; then cat "$work/verify.log"; fail "systemd-analyze verify warned"; fi
   echo "package_debs: systemd-analyze verify: ok"
 else
@@ -56,6 +66,12 @@ grep -q "cmmcomp-agent" <<< "$out" || fail "agent --version: $out"
 out=$("$root/usr/bin/cmmcomp-agent" --config "$root/etc/cmmcomp/agent.toml" --check 2>&1) \
   || fail "agent --check of the installed config: $out"
 grep -q "settings and 1 model(s) are valid" <<< "$out" || fail "agent --check: $out"
+# The proxy's shipped command line, checked as the unit runs it (--check: models, no serving).
+set -a; . "$root/etc/cmmcomp/ipp-proxy.env"; set +a
+# shellcheck disable=SC2086  # the variable is the unit's word-split command line
+out=$("$root/usr/bin/cmmcomp-agent" $CMMCOMP_IPP_PROXY_ARGS --check 2>&1) \
+  || fail "agent with ipp-proxy.env --check: $out"
+grep -q "settings and 1 model(s) are valid" <<< "$out" || fail "ipp proxy --check: $out"
 out=$("$root/usr/bin/cmmcomp-sim" move --json) || fail "cmmcomp-sim move"
 grep -q '"rae_um"' <<< "$out" || fail "cmmcomp-sim move: $out"
 "$root/usr/bin/cmmcomp-train" export "$root/usr/share/cmmcomp/models/default.json" \

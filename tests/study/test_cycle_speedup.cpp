@@ -166,6 +166,30 @@ TEST(CycleSpeedup, TheDocumentRendersEveryRowAndTheTargets) {
   EXPECT_NE(text.find(" of 5 |"), std::string::npos) << text;
 }
 
+TEST(CycleSpeedup, ACampaignIdentifiesTheMachineDownToTheNoise) {
+  // A small campaign from the shipped start file: the fit reaches the truth's own cost (the
+  // noise's) within a few percent, and the hose's delayed term and time constant come back
+  // within 3 of their reported sigma.
+  CampaignIdentification c;
+  c.moves = 40;
+  c.seed = 3;
+  c.start = dynamics::load_machine(CMMCOMP_SOURCE_DIR "/data/machines/default-start.toml");
+  c.frequency_starts = {0.8, 1.0};
+  const dynamics::Machine truth = dynamics::default_machine();
+  const IdentifiedModel m = identify_from_campaign(truth, c);
+  EXPECT_EQ(m.residuals, 4 * c.moves);
+  EXPECT_LT(m.final_cost, 1.1 * m.truth_cost);
+  for (std::size_t i = 0; i < m.parameters.size(); ++i) {
+    if (m.parameters[i] != "hose.accel_lag_s2" && m.parameters[i] != "hose.time_constant_s") {
+      continue;
+    }
+    const double off = std::abs(m.fitted_values[i] / m.truth_values[i] - 1.0);
+    EXPECT_LE(off, 3.0 * m.relative_sigma[i]) << m.parameters[i];
+  }
+  EXPECT_EQ(m.machine.parameters.controller_dwell_s, truth.parameters.controller_dwell_s);
+  EXPECT_THROW(identify_from_campaign(truth, CampaignIdentification{5, 1, c.start}), ConfigError);
+}
+
 TEST(TwinSource, AnswersItsMachinesTouchErrorAlongTheApproach) {
   const dynamics::Machine m = dynamics::default_machine();
   vc::TwinSource source("twin", m);

@@ -231,6 +231,38 @@ TEST(IppProxy, TranscriptDiffersFromTheDirectOneOnlyInTheCorrectedPtMeasData) {
   EXPECT_GE(lines, 40u);
 }
 
+TEST(IppProxyTranscript, TheDocumentsProxyTranscriptIsWhatTheProxyAnswers) {
+  std::ifstream in(CMMCOMP_DOCS_DIR "/protocol-ippdme.md");
+  ASSERT_TRUE(in);
+  std::vector<std::string> documented, commands;
+  std::string line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line == "```proxy-transcript") {
+      inside = true;
+    } else if (inside && line == "```") {
+      break;
+    } else if (inside) {
+      documented.push_back(line);
+      if (line.rfind("> ", 0) == 0) commands.push_back(line.substr(2));
+    }
+  }
+  ASSERT_FALSE(commands.empty()) << "no ```proxy-transcript block in docs/protocol-ippdme.md";
+  TwinServer server;
+  Proxy proxy(server.port());
+  auto c = proxy.client();
+  std::vector<std::string> answered;
+  for (const std::string& command : commands) {
+    c->send_raw(command + "\r\n");
+    answered.push_back("> " + command);
+    for (const std::string& a : c->wait(command.substr(0, 5)).lines) answered.push_back("< " + a);
+  }
+  std::string block;
+  for (const std::string& l : answered) block += l + "\n";
+  EXPECT_EQ(documented, answered) << "the proxy (shipped model, default machine) answers:\n"
+                                  << block;
+}
+
 /// Reads from `fd` until `needle` came or the peer closed (bounded by a timeout).
 std::string read_until(int fd, const std::string& needle, double timeout_s = 10.0) {
   std::string got;
