@@ -76,4 +76,33 @@ else
   echo "(SocketCAN length test skipped: scripts/uml-run.sh cannot boot User-Mode Linux here)"
 fi
 echo
+echo "== 9. The length test over I++ DME: the twin as an I++ server (cmmcomp-sim serve-ipp, noise on), =="
+echo "   the vc as its client through the compensating proxy (cmmcomp-agent --ipp-proxy, the shipped"
+echo "   model): fast-unc = the server's touches without the proxy's correction, fast-ipp-proxy = with"
+echo "   it (docs/protocol-ippdme.md, \"The compensating proxy\")"
+# Waits for a background program's "listening on HOST:PORT" line and prints PORT.
+port_of() {
+  local file=$1 tries=0
+  until grep -q "listening on 127.0.0.1:" "$file" 2>/dev/null; do
+    tries=$((tries + 1))
+    [ "$tries" -le 100 ] || { cat "$file" >&2; return 1; }
+    sleep 0.1
+  done
+  grep -o "listening on 127.0.0.1:[0-9]*" "$file" | head -n 1 | sed 's/.*://'
+}
+"$sim" serve-ipp --listen 127.0.0.1:0 --noise --seed 1 > "$out/serve-ipp.log" 2>&1 &
+ipp_server=$!
+"$agent" --ipp-proxy 127.0.0.1:0 --ipp-upstream "127.0.0.1:$(port_of "$out/serve-ipp.log")" \
+  > "$out/ipp-proxy.log" 2>&1 &
+ipp_proxy=$!
+trap 'kill "$ipp_proxy" "$ipp_server" 2>/dev/null || true' EXIT
+ipp_status=0
+"$vc" --ipp "127.0.0.1:$(port_of "$out/ipp-proxy.log")" --ipp-proxied --repeats 1 \
+  > "$out/length-test-ipp.txt" || ipp_status=$?
+sed -n '/^Per Y/,$p' "$out/length-test-ipp.txt"
+kill "$ipp_proxy" "$ipp_server" 2>/dev/null || true
+wait "$ipp_proxy" "$ipp_server" 2>/dev/null || true
+trap - EXIT
+[ "$ipp_status" -eq 0 ] || exit "$ipp_status"
+echo
 echo "main job done in $(( $(date +%s) - start )) s; outputs in $out"
