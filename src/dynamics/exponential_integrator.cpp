@@ -201,12 +201,12 @@ void ExponentialIntegrator::advance(const motion::Segment& segment,
     double p1 = z[kMode];
     double d1 = z[kModeRate];
     if (c_.has_mode2) {
-      constexpr auto m2 = static_cast<std::size_t>(aug(kMode2));
-      constexpr auto r2 = static_cast<std::size_t>(aug(kMode2Rate));
-      p0 = c_.phi * z0[kMode] + c_.psi * z0[m2];
-      d0 = c_.phi * z0[kModeRate] + c_.psi * z0[r2];
-      p1 = c_.phi * z[kMode] + c_.psi * z[m2];
-      d1 = c_.phi * z[kModeRate] + c_.psi * z[r2];
+      constexpr auto kM2 = static_cast<std::size_t>(aug(kMode2));
+      constexpr auto kR2 = static_cast<std::size_t>(aug(kMode2Rate));
+      p0 = c_.phi * z0[kMode] + c_.psi * z0[kM2];
+      d0 = c_.phi * z0[kModeRate] + c_.psi * z0[kR2];
+      p1 = c_.phi * z[kMode] + c_.psi * z[kM2];
+      d1 = c_.phi * z[kModeRate] + c_.psi * z[kR2];
     }
     if ((d0 > 0.0 && d1 < 0.0) || (d0 < 0.0 && d1 > 0.0)) {
       const double s = hermite_stationary_point(h, p0, d0, p1, d1);

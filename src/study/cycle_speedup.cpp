@@ -183,7 +183,7 @@ CycleRules CycleRules::resolved() const {
 CycleGrid default_cycle_grid(const Machine& machine) {
   const motion::ControllerCapabilities& caps = machine.capabilities;
   // Levels in the file's units, kept inside the capability range of their setting.
-  auto within = [&caps](motion::Setting s, std::vector<double> levels, double to_si) {
+  auto within = [&caps](motion::Setting s, const std::vector<double>& levels, double to_si) {
     const motion::SettingRange r = caps[s];
     std::vector<double> out;
     for (const double v : levels) {
@@ -246,8 +246,10 @@ CycleChoice fastest_qualified_cycle(const Machine& truth,
                                     const CycleRules& rules) {
   const CycleRules r = rules.resolved();
   std::vector<Judged> judged{{truth, reversal_map(truth, r)}};
+  judged.reserve(variants.size() + 1);
   for (const Machine& v : variants) judged.push_back({v, reversal_map(v, r)});
   std::vector<const Machine*> machines;
+  machines.reserve(judged.size());
   for (const Judged& j : judged) machines.push_back(&j.machine);
   const std::vector<double> ys = largest_first(r.y_mm);
   const double allowance = r.allowance_um();
