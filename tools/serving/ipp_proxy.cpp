@@ -62,6 +62,12 @@ struct Pending {
 
 bool same_name(std::string_view a, const char* b) { return a == std::string_view(b); }
 
+/// "X", "Y" or "Z".
+std::string_view axis_name(int axis) {
+  static constexpr char kAxes[] = "XYZ";
+  return {kAxes + axis, 1};
+}
+
 /// The single number argument of call item `i`.
 bool single_number(const ItemList& list, int i, double& v) {
   const Item& it = list[i];
@@ -181,7 +187,7 @@ struct IppProxyLogic::Impl {
         const Item& it = args[i];
         double v = 0;
         for (int axis = 0; axis < 3; ++axis) {
-          if (it.text == std::string_view("XYZ" + axis, 1) && single_number(args, i, v)) {
+          if (it.text == axis_name(axis) && single_number(args, i, v)) {
             p.has[axis] = true;
             p.xyz[axis] = v;
           }
@@ -272,8 +278,7 @@ struct IppProxyLogic::Impl {
     for (int i = data_items.first(); i >= 0; i = data_items[i].next_sibling) {
       double v = 0;
       for (int axis = 0; axis < 3; ++axis) {
-        if (data_items[i].text == std::string_view("XYZ" + axis, 1) &&
-            single_number(data_items, i, v)) {
+        if (data_items[i].text == axis_name(axis) && single_number(data_items, i, v)) {
           *axes[axis] = v;
           has[axis] = true;
         }
@@ -314,8 +319,7 @@ struct IppProxyLogic::Impl {
       for (int i = data_items.first(); i >= 0; i = data_items[i].next_sibling) {
         double v = 0;
         for (int axis = 0; axis < 3; ++axis) {
-          if (data_items[i].text == std::string_view("XYZ" + axis, 1) &&
-              single_number(data_items, i, v)) {
+          if (data_items[i].text == axis_name(axis) && single_number(data_items, i, v)) {
             number_item[axis] = data_items[i].first_child;
           }
         }
