@@ -62,7 +62,7 @@ allowed() {
     study) echo "core io twin training measure planning ipp vc study" ;;
     capi) echo "core io" ;;
     plugins) echo "core plugins" ;;
-    serving) echo "core io plugins serving" ;;
+    serving) echo "core io ipp plugins serving" ;;
   esac
 }
 
