@@ -587,12 +587,22 @@ struct IppProxy::Impl {
     return fd;
   }
 
-  void end_session(const char* why) {
+  /// Ends the client's session. A client that closed its connection ends the upstream one the
+  /// same way (what it sent is still delivered); one the proxy drops ends it with a reset, so the
+  /// server drops at once what the client left queued (it moves nothing more for a client that
+  /// is gone) and is free for the next session.
+  void end_session(const char* why, bool client_closed = false) {
     if (client >= 0) {
       ::close(client);
       if (why != nullptr) log(std::string("client dropped: ") + why);
     }
-    if (upstream >= 0) ::close(upstream);
+    if (upstream >= 0) {
+      if (!client_closed) {
+        const linger reset{1, 0};
+        ::setsockopt(upstream, SOL_SOCKET, SO_LINGER, &reset, sizeof reset);
+      }
+      ::close(upstream);
+    }
     client = upstream = -1;
     client_in.clear();
     upstream_in.clear();
@@ -618,7 +628,7 @@ struct IppProxy::Impl {
       // connection in the same poll round).
       pollfd q{client, POLLRDHUP, 0};
       if (::poll(&q, 1, 0) > 0 && (q.revents & (POLLRDHUP | POLLHUP | POLLERR))) {
-        end_session("it closed the connection");
+        end_session("it closed the connection", true);
       }
     }
     if (client >= 0) {
@@ -646,7 +656,7 @@ struct IppProxy::Impl {
     char buffer[4096];
     const ssize_t n = ::recv(client, buffer, sizeof buffer, 0);
     if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
-      end_session(n == 0 ? "it closed the connection" : "receive error");
+      end_session(n == 0 ? "it closed the connection" : "receive error", n == 0);
       return;
     }
     if (n < 0) return;

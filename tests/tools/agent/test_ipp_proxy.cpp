@@ -45,6 +45,7 @@ class TwinServer {
   TwinServer() : machine_(cmmcomp::dynamics::default_machine(), {}), session_(machine_) {
     ipp::ServerOptions o;
     o.port = 0;
+    o.log = [](const std::string& l) { std::fprintf(stderr, "server: %s\n", l.c_str()); };
     server_ = std::make_unique<ipp::Server>(session_, o);
     thread_ = std::thread([this] { server_->run(); });
   }
@@ -78,6 +79,7 @@ class Proxy {
     o.upstream_port = upstream_port;
     o.max_buffered_bytes = max_buffered;
     o.send_timeout_s = send_timeout_s;
+    o.log = [](const std::string& l) { std::fprintf(stderr, "proxy: %s\n", l.c_str()); };
     proxy_ = std::make_unique<serving::IppProxy>(compensator_, o);
     thread_ = std::thread([this] { proxy_->run(); });
   }
