@@ -4,7 +4,7 @@
 # docs/results.md carries (docs/study.md, "The results page") and rewrites those sections. Run
 # it from any folder after a change that moves a figure on purpose, then commit the page. The
 # ctests run the same commands with --page and fail when a section is stale, so a command here
-# must stay the ctest's (tests/tools/CMakeLists.txt). About 12 minutes on 2 cores.
+# must stay the ctest's (tests/tools/CMakeLists.txt).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$here/build/release}"
@@ -46,4 +46,8 @@ run cross-machine "${cross_machine[@]}" --plan lhs162 --block cross-machine-lhs1
 run interval-calibration --recipe data/recipes/default-model.toml \
   --plot docs/figures/interval-calibration.png
 run qualified-sweep --model data/models/default-y.json
+run cycle-speedup --machine default --machine data/machines/variant-mode-20.toml \
+  --machine data/machines/variant-drag+30.toml \
+  --machine data/machines/variant-y-participation+30.toml \
+  --machine data/machines/variant-modes.toml --identify-from data/machines/default-start.toml
 echo "regenerate-results: $page is current"
