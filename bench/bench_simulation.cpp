@@ -110,6 +110,30 @@ void BM_FastMove(benchmark::State& state) {
 }
 BENCHMARK(BM_FastMove)->Unit(benchmark::kMillisecond);
 
+// One whole probing cycle at the oracle's setting of the whole-cycle study (PV 200, PA 1200,
+// PD 40, AV 10, AA 300, AD 0.5, no dwell, smoothing one mode period, Y 500): what the grey-box
+// model's prediction costs per request (vc::TwinSource), on the default machine's 6 states and,
+// state.range(0) = 1, with a second mode (8 states).
+void BM_WholeCycle(benchmark::State& state) {
+  dynamics::Machine machine = dynamics::default_machine();
+  if (state.range(0) == 1) {
+    machine.parameters.mode2_participation = 0.25;
+    machine.parameters.mode2_frequency_hz = 65.0;
+    machine.parameters.mode_carriage_mass_share = 0.3;
+  }
+  dynamics::BridgeSimulator sim(machine);
+  motion::ProbingMove cycle = motion::probing_move_mm(200, 1200, 40, 10, 300, 0.5);
+  cycle.dwell = 0.0;
+  cycle.smoothing = 1.0 / machine.parameters.mode_frequency_hz;
+  dynamics::SimulationResult r;
+  for (auto _ : state) {
+    r = sim.simulate_cycle(cycle, 0.5);
+    benchmark::DoNotOptimize(r.errors_um);
+  }
+  report_work(state, r);
+}
+BENCHMARK(BM_WholeCycle)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 // The dataset pair: L18 × 3 (54 moves) plus a 270-sample Latin hypercube, with noise,
 // on state.range(0) threads. Wall time is what counts (UseRealTime).
 void BM_TrainingAndTestDatasets(benchmark::State& state) {
