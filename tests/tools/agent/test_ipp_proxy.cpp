@@ -296,9 +296,9 @@ void send_all(int fd, const std::string& bytes) {
             static_cast<ssize_t>(bytes.size()));
 }
 
-TEST(IppProxy, RawBytesAreTheServersExceptThePtMeasDataLine) {
-  // Lines without CR, binary junk, a reused tag and a trickled line: the bytes the client gets
-  // are the server's, byte for byte, up to the point's data line.
+TEST(IppProxy, RawBytesWithoutAPointAreTheServersByteForByte) {
+  // Lines without CR, binary junk, a reused tag and a line split across two writes: the bytes
+  // the client gets are the server's, byte for byte.
   const std::string session =
       "00001 StartSession()\n" + std::string("00002 ") + setprops() + "\r\n00003 " +
       ptmeas_props() +
