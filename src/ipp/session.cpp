@@ -11,16 +11,6 @@
 
 namespace cmmcomp::ipp {
 
-const char* const kSupportedCommands[] = {
-    "StartSession",  "EndSession",  "ClearAllErrors", "Home",           "IsHomed",
-    "EnableUser",    "DisableUser", "IsUserEnabled",  "GetProp",        "GetPropE",
-    "SetProp",       "GoTo",        "PtMeas",         "OnPtMeasReport", "Get",
-    "GetErrStatusE", "AbortE",      "StopDaemon",     "StopAllDaemons", "GetSupportedCommands",
-    "SetTool",       "ChangeTool",
-};
-const int kSupportedCommandCount =
-    static_cast<int>(sizeof(kSupportedCommands) / sizeof(kSupportedCommands[0]));
-
 namespace {
 
 /// I++ DME commands of the specification this server does not implement (0501, not 0507).

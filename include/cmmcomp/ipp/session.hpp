@@ -61,8 +61,15 @@ motion::SettingRange property_range(Property p,
                                     const motion::ControllerCapabilities& caps) noexcept;
 
 /// The commands of the subset, in GetSupportedCommands' order.
-extern const char* const kSupportedCommands[];
-extern const int kSupportedCommandCount;
+inline constexpr const char* kSupportedCommands[] = {
+    "StartSession",  "EndSession",  "ClearAllErrors", "Home",           "IsHomed",
+    "EnableUser",    "DisableUser", "IsUserEnabled",  "GetProp",        "GetPropE",
+    "SetProp",       "GoTo",        "PtMeas",         "OnPtMeasReport", "Get",
+    "GetErrStatusE", "AbortE",      "StopDaemon",     "StopAllDaemons", "GetSupportedCommands",
+    "SetTool",       "ChangeTool",
+};
+inline constexpr int kSupportedCommandCount =
+    static_cast<int>(sizeof(kSupportedCommands) / sizeof(kSupportedCommands[0]));
 
 struct SessionOptions {
   std::size_t max_queued = 64;  ///< accepted normal commands waiting at most (more: 0000)
