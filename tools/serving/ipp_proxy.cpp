@@ -506,7 +506,9 @@ struct IppProxy::Impl {
   std::string client_in, upstream_in;
   bool upstream_passthrough = false;  ///< inside an over-long server line: forwarded as it is
   Outbox to_client, to_upstream;
-  bool closing = false;  ///< send what waits to the client, then close
+  bool closing = false;        ///< send what waits to the client, then close
+  bool client_done = false;    ///< the client half-closed: it sends nothing more
+  bool upstream_shut = false;  ///< and that end has been passed on to the server
 
   Impl(const compensation::MoveCompensator& c, const IppProxyOptions& o)
       : options(o), logic(c, o.log) {
@@ -610,6 +612,8 @@ struct IppProxy::Impl {
     to_client.bytes.clear();
     to_upstream.bytes.clear();
     closing = false;
+    client_done = false;
+    upstream_shut = false;
   }
 
   static void refuse(int fd, const char* detail) {
@@ -655,6 +659,14 @@ struct IppProxy::Impl {
   void read_client() {
     char buffer[4096];
     const ssize_t n = ::recv(client, buffer, sizeof buffer, 0);
+    if (n == 0 && !client_done) {
+      // The client has sent everything (a half-close, as `… | socat` does): its last bytes and
+      // the end go upstream, and the server's answers still come back, as without the proxy.
+      if (!client_in.empty()) to_upstream.add(client_in);
+      client_in.clear();
+      client_done = true;
+      return;
+    }
     if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
       end_session(n == 0 ? "it closed the connection" : "receive error", n == 0);
       return;
@@ -741,7 +753,8 @@ struct IppProxy::Impl {
       int timeout = -1;
       if (client >= 0) {
         // The client is not read while the upstream does not take its lines (bounded).
-        const bool take = !closing && to_upstream.bytes.size() < options.max_buffered_bytes;
+        const bool take =
+            !closing && !client_done && to_upstream.bytes.size() < options.max_buffered_bytes;
         p[2] = {client,
                 static_cast<short>((take ? POLLIN : 0) | (to_client.bytes.empty() ? 0 : POLLOUT)),
                 0};
@@ -795,6 +808,10 @@ struct IppProxy::Impl {
       }
       if (client >= 0 && upstream >= 0 && !to_upstream.bytes.empty()) {
         if (!to_upstream.flush(upstream)) end_session("send error to the I++ server");
+      }
+      if (client_done && !upstream_shut && upstream >= 0 && to_upstream.bytes.empty()) {
+        ::shutdown(upstream, SHUT_WR);  // the client's end, passed on
+        upstream_shut = true;
       }
       if (client >= 0 && !to_client.bytes.empty()) {
         if (!to_client.flush(client)) end_session("send error");
