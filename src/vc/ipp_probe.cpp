@@ -76,6 +76,12 @@ double IppProbe::probe(const ProbeSetting& s, double y_mm, Answer& proxy) {
       proxy.u95_um[3] = v[0] * 1e3;
     } else if (it.text == "CmmcompFlags" && n == 1) {
       proxy.flags = static_cast<std::uint32_t>(v[0]);
+    } else if (it.text == "CmmcompModel" && it.first_child >= 0 &&
+               items[it.first_child].kind == ipp::Item::Kind::kString) {
+      const std::string hex(items[it.first_child].text);
+      char* end = nullptr;
+      const unsigned long long id = std::strtoull(hex.c_str(), &end, 16);
+      if (!hex.empty() && end == hex.c_str() + hex.size()) proxy.model_id = id;
     }
   }
   if (has_correction) {

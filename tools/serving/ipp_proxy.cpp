@@ -289,8 +289,8 @@ struct IppProxyLogic::Impl {
     }
   }
 
-  /// Appends the marks: when corrected, the correction added to X, Y, Z [mm] and U95 of the
-  /// corrected point along d [mm]; always the flags.
+  /// Appends the marks: when corrected, the correction added to X, Y, Z [mm], U95 of the
+  /// corrected point along d [mm] and the model's id; always the flags.
   void append_marks(const compensation::Correction* corrected, double u95_mm, std::uint32_t flags) {
     if (corrected != nullptr) {
       out += ", CmmcompCorrection(";
@@ -300,7 +300,13 @@ struct IppProxyLogic::Impl {
       }
       out += "), CmmcompU95(";
       format_number(u95_mm, out);
-      out += ")";
+      // The model that corrected the point, as the agent's protocols carry it (16 hex digits).
+      char id[40];
+      const int n = std::snprintf(id,
+                                  sizeof id,
+                                  "), CmmcompModel(\"%016llx\")",
+                                  static_cast<unsigned long long>(corrected->model_id));
+      out.append(id, static_cast<std::size_t>(n));
     }
     out += ", CmmcompFlags(";
     char digits[16];

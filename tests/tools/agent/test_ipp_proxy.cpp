@@ -195,8 +195,10 @@ std::string expected_line(const std::string& direct,
   data += ", CmmcompCorrection(" + format_ipp_number(c.correction_um[0] * 1e-3) + ", " +
           format_ipp_number(c.correction_um[1] * 1e-3) + ", " +
           format_ipp_number(c.correction_um[2] * 1e-3) + ")";
-  data += ", CmmcompU95(" + format_ipp_number(c.u95_um[3] * 1e-3) + "), CmmcompFlags(" +
-          std::to_string(c.flags) + ")";
+  char id[24];
+  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(c.model_id));
+  data += ", CmmcompU95(" + format_ipp_number(c.u95_um[3] * 1e-3) + "), CmmcompModel(\"" + id +
+          "\"), CmmcompFlags(" + std::to_string(c.flags) + ")";
   return std::string(a.tag.view()) + " # " + data;
 }
 

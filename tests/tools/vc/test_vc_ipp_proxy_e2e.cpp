@@ -105,6 +105,11 @@ TEST(VcIppProxyE2e, SameVerdictsThroughTheProxyAsOverModbus) {
     compensated_passes += by_proxy["pass"].get<bool>() ? 1 : 0;
   }
   EXPECT_GT(compensated_passes, 0);
+  // The proxy names the model that corrected the points (CmmcompModel), as the agent does.
+  ASSERT_FALSE(through_proxy["agents"].empty()) << through_proxy.dump();
+  ASSERT_FALSE(over_modbus["agents"].empty()) << over_modbus.dump();
+  EXPECT_EQ(through_proxy["agents"][0]["model_id"], over_modbus["agents"][0]["model_id"]);
+  EXPECT_NE(through_proxy["agents"][0]["model_id"], "0000000000000000");
 }
 
 }  // namespace
