@@ -58,11 +58,11 @@ tail -n 6 "$out/qualified-sweep.md"
 echo
 echo "== 7. The whole probing cycle: every controller setting free (dwell and smoothing too), the =="
 echo "   qualified machine against the one compensated by a grey-box model identified from a"
-echo "   100-move campaign, then the vc's length test of both at seeds 1-5 (cycle-speedup.md;"
+echo "   60-move campaign, then the vc's length test of both at seeds 1-5 (cycle-speedup.md;"
 echo "   docs/study.md, \"The whole cycle\"; all machines and PD: docs/results.md)"
 status=0  # 1: a target missed (shown below); more: an error
 "$study" cycle-speedup --machine default --pd 40 --identify-from data/machines/default-start.toml \
-  --campaign-moves 100 > "$out/cycle-speedup.md" || status=$?
+  --campaign-moves 60 > "$out/cycle-speedup.md" || status=$?
 [ "$status" -le 1 ] || exit "$status"
 grep -E '^\| paper-default|PASS|FAIL' "$out/cycle-speedup.md" | sed -E 's/ \(residual[^)]*\)//g'
 # The same over SocketCAN where the User-Mode Linux runner works (vcan needs a CAN kernel).
