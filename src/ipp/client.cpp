@@ -7,13 +7,12 @@
 #include <cerrno>
 #include <cmmcomp/ipp/client.hpp>
 #include <cmmcomp/ipp/line.hpp>
-
-#include "socket_util.hpp"
+#include <cmmcomp/ipp/socket.hpp>
 
 namespace cmmcomp::ipp {
 
 Client::Client(const std::string& host, std::uint16_t port, double timeout_s) {
-  const sockaddr_in a = detail::resolve(host, port);
+  const sockaddr_in a = net::resolve(host, port);
   const std::string where = host + ":" + std::to_string(port);
   fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (fd_ < 0) throw Error("I++ client: socket: " + std::string(std::strerror(errno)));
@@ -26,7 +25,7 @@ Client::Client(const std::string& host, std::uint16_t port, double timeout_s) {
     pollfd p{fd_, POLLOUT, 0};
     int err = 0;
     socklen_t len = sizeof err;
-    if (::poll(&p, 1, detail::ms_until(detail::after_seconds(timeout_s))) != 1 ||
+    if (::poll(&p, 1, net::ms_until(net::after_seconds(timeout_s))) != 1 ||
         ::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &err, &len) != 0 || err != 0) {
       ::close(fd_);
       throw Error("I++ client: cannot connect to " + where + ": " +
@@ -41,7 +40,7 @@ Client::~Client() {
 
 void Client::send_raw(std::string_view bytes) {
   std::size_t sent = 0;
-  const auto deadline = detail::after_seconds(10.0);
+  const auto deadline = net::after_seconds(10.0);
   while (sent < bytes.size()) {
     const ssize_t n =
         ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
@@ -53,7 +52,7 @@ void Client::send_raw(std::string_view bytes) {
       throw Error("I++ client: send: " + std::string(std::strerror(errno)));
     }
     pollfd p{fd_, POLLOUT, 0};
-    if (::poll(&p, 1, detail::ms_until(deadline)) == 0) throw Error("I++ client: send timed out");
+    if (::poll(&p, 1, net::ms_until(deadline)) == 0) throw Error("I++ client: send timed out");
   }
 }
 
@@ -96,7 +95,7 @@ bool Client::read_more(double timeout_s) {
     }
     if (closed_) throw Error("I++ client: the server closed the connection");
     pollfd p{fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, detail::ms_until(detail::after_seconds(timeout_s)));
+    const int r = ::poll(&p, 1, net::ms_until(net::after_seconds(timeout_s)));
     if (r == 0) return false;
     if (r < 0 && errno == EINTR) continue;
     char buffer[4096];
@@ -112,7 +111,7 @@ bool Client::read_more(double timeout_s) {
 Transaction Client::wait(const std::string& tag, double timeout_s) {
   Transaction t;
   t.tag = tag;
-  const auto deadline = detail::after_seconds(timeout_s);
+  const auto deadline = net::after_seconds(timeout_s);
   std::size_t used = 0;
   for (;;) {
     std::vector<std::string>& lines = pending_[tag];
@@ -141,7 +140,7 @@ Transaction Client::wait(const std::string& tag, double timeout_s) {
         return t;
       }
     }
-    const int left = detail::ms_until(deadline);
+    const int left = net::ms_until(deadline);
     if (left == 0 || !read_more(left / 1000.0)) {
       pending_[tag].erase(pending_[tag].begin(),
                           pending_[tag].begin() + static_cast<std::ptrdiff_t>(used));
@@ -155,9 +154,9 @@ Transaction Client::call(std::string_view command, double timeout_s) {
 }
 
 std::string Client::wait_event(double timeout_s) {
-  const auto deadline = detail::after_seconds(timeout_s);
+  const auto deadline = net::after_seconds(timeout_s);
   while (events_.empty()) {
-    const int left = detail::ms_until(deadline);
+    const int left = net::ms_until(deadline);
     if (left == 0 || !read_more(left / 1000.0)) {
       throw Error("I++ client: no event within the timeout");
     }
@@ -168,10 +167,10 @@ std::string Client::wait_event(double timeout_s) {
 }
 
 bool Client::wait_closed(double timeout_s) {
-  const auto deadline = detail::after_seconds(timeout_s);
+  const auto deadline = net::after_seconds(timeout_s);
   try {
     for (;;) {
-      const int left = detail::ms_until(deadline);
+      const int left = net::ms_until(deadline);
       if (left == 0 || !read_more(left / 1000.0)) return false;
     }
   } catch (const Error&) {

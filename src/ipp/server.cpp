@@ -7,17 +7,13 @@
 #include <cerrno>
 #include <cmmcomp/ipp/line.hpp>
 #include <cmmcomp/ipp/server.hpp>
+#include <cmmcomp/ipp/socket.hpp>
 #include <optional>
 #include <vector>
 
-#include "socket_util.hpp"
-
 namespace cmmcomp::ipp {
-namespace {
 
-void set_nonblocking(int fd) { ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL, 0) | O_NONBLOCK); }
-
-}  // namespace
+using net::set_nonblocking;
 
 struct Server::Impl {
   Session& session;
@@ -29,9 +25,9 @@ struct Server::Impl {
   int fd = -1;
   std::string in, out;
   bool closing = false;  ///< send what waits, then close
-  detail::Clock::time_point last_sent;
+  net::Clock::time_point last_sent;
   std::optional<Executed> current;
-  detail::Clock::time_point deadline;
+  net::Clock::time_point deadline;
 
   Impl(Session& s, const ServerOptions& o) : session(s), options(o) {}
 
@@ -48,21 +44,9 @@ struct Server::Impl {
   }
 
   void listen() {
-    const sockaddr_in a = detail::resolve(options.host, options.port);
-    const std::string where = options.host + ":" + std::to_string(options.port);
-    listen_fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (listen_fd < 0) throw Error("I++ server: socket: " + std::string(std::strerror(errno)));
-    const int one = 1;
-    ::setsockopt(listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (::bind(listen_fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0 ||
-        ::listen(listen_fd, 4) != 0) {
-      throw Error("I++ server: cannot listen on " + where + ": " + std::strerror(errno));
-    }
-    set_nonblocking(listen_fd);
-    sockaddr_in bound{};
-    socklen_t len = sizeof bound;
-    ::getsockname(listen_fd, reinterpret_cast<sockaddr*>(&bound), &len);
-    port = ntohs(bound.sin_port);
+    const net::Listener l = net::listen_tcp(options.host, options.port, "I++ server");
+    listen_fd = l.fd;
+    port = l.port;
     if (::pipe2(wake, O_NONBLOCK | O_CLOEXEC) != 0) {
       throw Error("I++ server: pipe: " + std::string(std::strerror(errno)));
     }
@@ -70,7 +54,7 @@ struct Server::Impl {
 
   void queue_lines(std::vector<std::string>& lines) {
     // The send timeout counts from when answers start to wait, not from the last send.
-    if (out.empty() && !lines.empty()) last_sent = detail::Clock::now();
+    if (out.empty() && !lines.empty()) last_sent = net::Clock::now();
     for (const std::string& l : lines) {
       out += l;
       out += "\r\n";
@@ -115,7 +99,7 @@ struct Server::Impl {
       return;
     }
     fd = c;
-    last_sent = detail::Clock::now();
+    last_sent = net::Clock::now();
     log("client connected");
   }
 
@@ -155,7 +139,7 @@ struct Server::Impl {
     const ssize_t n = ::send(fd, out.data(), out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n > 0) {
       out.erase(0, static_cast<std::size_t>(n));
-      last_sent = detail::Clock::now();
+      last_sent = net::Clock::now();
     } else if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
       drop("send error");
     }
@@ -166,7 +150,7 @@ struct Server::Impl {
     while (fd >= 0 && !current && session.has_work()) {
       Executed e = session.start_next();
       if (options.realtime && e.seconds > 0) {
-        deadline = detail::after_seconds(e.seconds);
+        deadline = net::after_seconds(e.seconds);
         current = std::move(e);
       } else {
         session.finish(std::move(e), answers);
@@ -183,7 +167,7 @@ struct Server::Impl {
     bool stop = false;
     while (!stop) {
       if (fd >= 0 && !closing) run_work();
-      if (fd >= 0 && current && (session.aborted() || detail::Clock::now() >= deadline)) {
+      if (fd >= 0 && current && (session.aborted() || net::Clock::now() >= deadline)) {
         std::vector<std::string> answers;
         session.finish(std::move(*current), answers);
         current.reset();
@@ -203,11 +187,10 @@ struct Server::Impl {
       if (fd >= 0) {
         p[2].fd = fd;
         p[2].events = static_cast<short>((closing ? 0 : POLLIN) | (out.empty() ? 0 : POLLOUT));
-        if (current) timeout = detail::ms_until(deadline);
+        if (current) timeout = net::ms_until(deadline);
         if (!out.empty()) {
-          const int t = detail::ms_until(
-              last_sent +
-              std::chrono::microseconds(static_cast<long long>(options.send_timeout_s * 1e6)));
+          const int t = net::ms_until(last_sent + std::chrono::microseconds(static_cast<long long>(
+                                                      options.send_timeout_s * 1e6)));
           if (t == 0) {
             drop("nothing could be sent to it for the send timeout");
             continue;

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cmmcomp/exceptions.hpp>
 #include <cmmcomp/io/ipp_number.hpp>
+#include <cmmcomp/ipp/socket.hpp>
 #include <cstdio>
 #include <cstring>
 #include <vector>
@@ -445,39 +446,10 @@ const IppProxyCounters& IppProxyLogic::counters() const noexcept { return impl_-
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-sockaddr_in resolve(const std::string& host, std::uint16_t port) {
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  if (inet_pton(AF_INET, host.c_str(), &a.sin_addr) == 1) return a;
-  addrinfo hints{};
-  hints.ai_family = AF_INET;
-  hints.ai_socktype = SOCK_STREAM;
-  addrinfo* found = nullptr;
-  if (getaddrinfo(host.c_str(), nullptr, &hints, &found) != 0 || found == nullptr) {
-    throw Error("I++ proxy: cannot resolve host '" + host + "'");
-  }
-  a.sin_addr = reinterpret_cast<sockaddr_in*>(found->ai_addr)->sin_addr;
-  freeaddrinfo(found);
-  return a;
-}
-
-void set_nonblocking(int fd) { ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL, 0) | O_NONBLOCK); }
-
-void no_delay(int fd) {
-  const int one = 1;
-  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-}
-
-int ms_until(Clock::time_point deadline) {
-  const auto left =
-      std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now()).count();
-  if (left <= 0) return 0;
-  const long long ms = (left + 999) / 1000;
-  return ms > 1000000 ? 1000000 : static_cast<int>(ms);
-}
+using ipp::net::Clock;
+using ipp::net::ms_until;
+using ipp::net::no_delay;
+using ipp::net::set_nonblocking;
 
 /// Bytes that wait to be sent on a non-blocking socket.
 struct Outbox {
@@ -534,21 +506,10 @@ struct IppProxy::Impl {
   }
 
   void listen() {
-    const sockaddr_in a = resolve(options.listen_host, options.listen_port);
-    const std::string where = options.listen_host + ":" + std::to_string(options.listen_port);
-    listen_fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (listen_fd < 0) throw Error("I++ proxy: socket: " + std::string(std::strerror(errno)));
-    const int one = 1;
-    ::setsockopt(listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (::bind(listen_fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0 ||
-        ::listen(listen_fd, 4) != 0) {
-      throw Error("I++ proxy: cannot listen on " + where + ": " + std::strerror(errno));
-    }
-    set_nonblocking(listen_fd);
-    sockaddr_in bound{};
-    socklen_t len = sizeof bound;
-    ::getsockname(listen_fd, reinterpret_cast<sockaddr*>(&bound), &len);
-    port = ntohs(bound.sin_port);
+    const ipp::net::Listener l =
+        ipp::net::listen_tcp(options.listen_host, options.listen_port, "I++ proxy");
+    listen_fd = l.fd;
+    port = l.port;
     if (::pipe2(wake, O_NONBLOCK | O_CLOEXEC) != 0) {
       throw Error("I++ proxy: pipe: " + std::string(std::strerror(errno)));
     }
@@ -558,7 +519,7 @@ struct IppProxy::Impl {
   int connect_upstream(std::string& why) const {
     sockaddr_in a{};
     try {
-      a = resolve(options.upstream_host, options.upstream_port);
+      a = ipp::net::resolve(options.upstream_host, options.upstream_port, "I++ proxy");
     } catch (const Error& e) {
       why = e.what();
       return -1;
