@@ -46,8 +46,8 @@ stage "Cortex-M7 firmware (qemu-system-arm -M mps2-an500)" fw-cortex-m7 -j "$job
 bash scripts/firmware-figures.sh
 stage "aarch64 Linux (qemu-aarch64): the core's unit tests and golden vectors" aarch64 -j "$jobs"
 # The programs labelled concurrency: the compensators' hot swap, the Modbus server under many
-# and hostile clients, the agent's reload on SIGHUP.
-STAGE_TARGETS="test_move_compensator test_conditions test_static_compensator test_modbus_server test_agent_modbus" \
+# and hostile clients, the agent's reload on SIGHUP, the I++ server and the compensating proxy.
+STAGE_TARGETS="test_move_compensator test_conditions test_static_compensator test_modbus_server test_agent_modbus test_ipp_conformance test_ipp_proxy" \
   TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   stage "ThreadSanitizer: the concurrency tests" tsan -L concurrency -j "$jobs"
 # Two targets at a time (one core each): each fuzzes for CMMCOMP_FUZZ_SECONDS.
