@@ -67,6 +67,19 @@ class AgentProcess {
     return true;
   }
 
+  /// The port the process printed right after `marker` (e.g. "listening on 127.0.0.1:"), once it
+  /// printed it (waiting at most `timeout`); 0 when it did not.
+  int port_after(const std::string& marker,
+                 std::chrono::milliseconds timeout = std::chrono::milliseconds(10000)) {
+    if (!wait_for_output(marker, timeout)) return 0;
+    std::size_t at = output_.find(marker) + marker.size();
+    int port = 0;
+    while (at < output_.size() && output_[at] >= '0' && output_[at] <= '9') {
+      port = port * 10 + (output_[at++] - '0');
+    }
+    return port;
+  }
+
   void signal(int sig) const { kill(pid_, sig); }
   pid_t pid() const { return pid_; }
 

@@ -508,15 +508,6 @@ namespace sighup {
 using namespace std::chrono_literals;
 using cmmcomp::test::AgentProcess;
 
-int port_after(AgentProcess& p, const std::string& marker) {
-  if (!p.wait_for_output(marker, 10s)) return 0;
-  const std::string& out = p.output();
-  std::size_t at = out.find(marker) + marker.size();
-  int port = 0;
-  while (at < out.size() && out[at] >= '0' && out[at] <= '9') port = port * 10 + (out[at++] - '0');
-  return port;
-}
-
 void copy_file(const std::string& from, const std::string& to) {
   std::ifstream in(from, std::ios::binary);
   std::ofstream out(to + ".tmp", std::ios::binary);
@@ -543,7 +534,7 @@ TEST(IppProxyProcess, SighupSwapsTheModelAndABrokenFileKeepsTheOldOne) {
       ::testing::TempDir() + "ipp_proxy_model_" + std::to_string(::getpid()) + ".json";
   copy_file(CMMCOMP_MODELS_DIR "/default.json", model);
   AgentProcess server(CMMCOMP_SIM_PATH, {"serve-ipp", "--listen", "127.0.0.1:0"});
-  const int upstream = port_after(server, "listening on 127.0.0.1:");
+  const int upstream = server.port_after("listening on 127.0.0.1:");
   ASSERT_GT(upstream, 0) << server.output();
   AgentProcess proxy(CMMCOMP_AGENT_PATH,
                      {"--ipp-proxy",
@@ -552,7 +543,7 @@ TEST(IppProxyProcess, SighupSwapsTheModelAndABrokenFileKeepsTheOldOne) {
                       "127.0.0.1:" + std::to_string(upstream),
                       "--model",
                       model});
-  const int port = port_after(proxy, "I++ proxy listening on 127.0.0.1:");
+  const int port = proxy.port_after("I++ proxy listening on 127.0.0.1:");
   ASSERT_GT(port, 0) << proxy.output();
   const std::string before = probe_once(port);
   EXPECT_NE(before.find("CmmcompCorrection("), std::string::npos) << before;

@@ -30,16 +30,6 @@ namespace {
 using namespace std::chrono_literals;
 using test::AgentProcess;
 
-/// The port a process printed after `marker` ("listening on 127.0.0.1:"); 0 when it did not.
-int port_after(AgentProcess& p, const std::string& marker) {
-  if (!p.wait_for_output(marker, 10s)) return 0;
-  const std::string& out = p.output();
-  std::size_t at = out.find(marker) + marker.size();
-  int port = 0;
-  while (at < out.size() && out[at] >= '0' && out[at] <= '9') port = port * 10 + (out[at++] - '0');
-  return port;
-}
-
 nlohmann::json run_vc(const std::vector<std::string>& extra) {
   std::vector<std::string> args = {
       "--lengths", "20,100,400", "--y", "0,250,500", "--repeats", "1", "--no-noise", "--json"};
@@ -59,17 +49,17 @@ TEST(VcIppProxyE2e, SameVerdictsThroughTheProxyAsOverModbus) {
   test::RunningAgent modbus = test::start_modbus_agent(CMMCOMP_AGENT_PATH, {}, 11, &why);
   ASSERT_TRUE(modbus.process) << why;
   AgentProcess direct_server(CMMCOMP_SIM_PATH, {"serve-ipp", "--listen", "127.0.0.1:0"});
-  const int direct_port = port_after(direct_server, "listening on 127.0.0.1:");
+  const int direct_port = direct_server.port_after("listening on 127.0.0.1:");
   ASSERT_GT(direct_port, 0) << direct_server.output();
   AgentProcess proxied_server(CMMCOMP_SIM_PATH, {"serve-ipp", "--listen", "127.0.0.1:0"});
-  const int upstream_port = port_after(proxied_server, "listening on 127.0.0.1:");
+  const int upstream_port = proxied_server.port_after("listening on 127.0.0.1:");
   ASSERT_GT(upstream_port, 0) << proxied_server.output();
   AgentProcess proxy(CMMCOMP_AGENT_PATH,
                      {"--ipp-proxy",
                       "127.0.0.1:0",
                       "--ipp-upstream",
                       "127.0.0.1:" + std::to_string(upstream_port)});
-  const int proxy_port = port_after(proxy, "I++ proxy listening on 127.0.0.1:");
+  const int proxy_port = proxy.port_after("I++ proxy listening on 127.0.0.1:");
   ASSERT_GT(proxy_port, 0) << proxy.output();
 
   const std::string agent = "tcp:127.0.0.1:" + std::to_string(modbus.port);
