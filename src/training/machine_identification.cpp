@@ -628,6 +628,13 @@ std::string format_identification_report(const IdentificationReport& r,
 
 std::vector<std::string> bound_warnings(const IdentificationReport& r) {
   std::vector<std::string> out;
+  if (r.residual_scale > 2.0) {
+    out.push_back(fmt::format(
+        "the residuals at the fit spread {:.3g} times their sigma: a mechanism is missing from "
+        "the model, a fixed key is wrong, the fit stopped in a local minimum, or the sigmas are "
+        "optimistic; the 1 sigma column is widened by that factor but assumes the model is right",
+        r.residual_scale));
+  }
   for (std::size_t i = 0; i < r.free_parameters.size(); ++i) {
     if (r.at_bound[i] == 0) continue;
     out.push_back(fmt::format(

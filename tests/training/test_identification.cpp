@@ -85,6 +85,9 @@ TEST(IdentifyMachine, TheReportedUncertaintyCoversTheTruthOnNoisyMoves) {
       inside = inside && off <= 2.0 * r.relative_sigma[i];
     }
     covered += inside ? 1 : 0;
+    for (const std::string& w : bound_warnings(r)) {
+      EXPECT_EQ(w.find("spread"), std::string::npos) << w;  // a fit to the noise stays quiet
+    }
     std::printf("seed %d: tau %+.2f %% (1 sigma %.2f %%), lambda %+.2f %% (1 sigma %.2f %%)\n",
                 seed,
                 100.0 * (r.fitted_values[0] / truths[0] - 1.0),
@@ -112,6 +115,28 @@ TEST(IdentifyMachine, AParameterTheDataCannotSeeIsUndetermined) {
   EXPECT_TRUE(std::isfinite(r.relative_sigma[0]));
   EXPECT_FALSE(std::isfinite(r.relative_sigma[1]));
   EXPECT_NE(format_identification_report(r, "m", "d").find("undetermined"), std::string::npos);
+}
+
+TEST(IdentifyMachine, ResidualsWiderThanTheirSigmaAreAWarning) {
+  // Table 1 noise judged by sigmas a tenth of it: the fit says so instead of a narrow 1 sigma.
+  const dynamics::Machine truth = dynamics::default_machine();
+  dynamics::FixedSettings fixed;
+  fixed.y_mm = 400.0;
+  const auto design = doe::design_by_name("l9", doe::paper_table3_factors(), 0, 1);
+  dynamics::DatasetOptions noisy;
+  noisy.noise.enabled = true;
+  IdentificationTargets targets;
+  targets.moves =
+      dynamics::simulate_dataset(truth, dynamics::rows_from_design(design, fixed), noisy);
+  IdentificationOptions options;
+  options.free_parameters = {"structure.mode_frequency_hz"};
+  for (double& s : options.sigma_um) s /= 10.0;
+  const IdentificationReport r = identify_machine(truth, targets, options);
+  EXPECT_GT(r.residual_scale, 2.0);
+  bool warned = false;
+  for (const std::string& w : bound_warnings(r))
+    warned = warned || w.find("spread") != std::string::npos;
+  EXPECT_TRUE(warned);
 }
 
 TEST(Table5, OfAHandComputedSet) {

@@ -133,8 +133,9 @@ GridMeanTargets read_grid_mean_targets(const std::string& path);
 std::string format_identification_report(const IdentificationReport& report,
                                          const std::string& machine_name,
                                          const std::string& data_label);
-/// One warning per free parameter that ended at a plausible bound, naming the bound, what it
-/// means and what to check (empty: none did).
+/// The fit's warnings: the residuals spreading more than twice their σ (residual_scale > 2),
+/// and one per free parameter that ended at a plausible bound, naming the bound, what it means
+/// and what to check (empty: a fit the model describes to its noise, inside the ranges).
 std::vector<std::string> bound_warnings(const IdentificationReport& report);
 
 }  // namespace cmmcomp::training
