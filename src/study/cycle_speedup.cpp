@@ -258,9 +258,11 @@ CycleChoice fastest_qualified_cycle(const Machine& truth,
     try {
       for (std::size_t k = 0; k < judged.size(); ++k) {
         BridgeSimulator& sim = *w.sims[k];
-        const double at_sphere = touch(sim, c.cycle, r.sphere_y_mm).rae;
+        const errors::DynamicErrors sphere = touch(sim, c.cycle, r.sphere_y_mm);
+        const double at_sphere = sphere.rae;
         for (const double y : ys) {
-          const errors::DynamicErrors e = touch(sim, c.cycle, y);
+          // The sphere's Y is usually one of the program's: simulated once.
+          const errors::DynamicErrors e = y == r.sphere_y_mm ? sphere : touch(sim, c.cycle, y);
           const double res = judged[k].reference.residual_um(e.rae, y, at_sphere);
           if (std::abs(res) > check.residual_um) {
             check.residual_um = std::abs(res);
